@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# The main job: installs missing Debian packages, builds the perch tool and runs it on the
+# sample masks in examples/data/, writing JSON and annotated PNGs to build/demo/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+export CMAKE_BUILD_PARALLEL_LEVEL="${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}"
+cmake --workflow --preset demo
