@@ -10,6 +10,11 @@
 
 #include "allocation_counter.hpp"
 
+// The replacements below pair malloc with free on purpose.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+
 namespace perch::test {
 std::atomic<long long> g_allocations{0};
 }

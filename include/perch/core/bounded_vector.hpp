@@ -12,10 +12,11 @@
 
 namespace perch {
 
-/// Fixed-capacity vector of trivially copyable `T` over a span (usually from a `workspace`).
+/// Fixed-capacity vector of trivially destructible, copy-assignable `T` over a span (usually from
+/// a `workspace`).
 template <class T>
 class bounded_vector {
-  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
+  static_assert(std::is_trivially_destructible_v<T> && std::is_copy_assignable_v<T>);
 
  public:
   using value_type = T;

@@ -1,0 +1,223 @@
+/// \file
+/// Clearance around a window: how much of the tree other than the branch itself lies in a band
+/// along it, above it, or in a circle around it (the paper's failure case of a branch buried in
+/// twigs, and the free space the tether, metamorphic and ornithopter platforms need).
+/// Regions are convex; each query walks the region's rows and counts tree pixels with row prefix
+/// sums, so it costs O(region height), not O(region area).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <span>
+
+#include "perch/analysis/measures.hpp"
+#include "perch/core/geometry.hpp"
+#include "perch/core/image_view.hpp"
+#include "perch/core/result.hpp"
+#include "perch/core/workspace.hpp"
+
+namespace perch {
+
+/// Row prefix sums of a binary mask: `sum(x, y)` = tree pixels in row y left of column x.
+class tree_pixel_counter {
+ public:
+  tree_pixel_counter() noexcept = default;
+
+  /// Builds the sums for `mask` (non-zero = tree) from workspace memory: (w+1)·h uint32.
+  template <BinaryView Mask>
+  [[nodiscard]] status build(const Mask& mask, workspace& ws) noexcept {
+    width_ = mask.width();
+    height_ = mask.height();
+    auto sums = ws.allocate<std::uint32_t>(static_cast<std::size_t>(width_ + 1) *
+                                           static_cast<std::size_t>(height_));
+    if (!sums) return unexpected{sums.error()};
+    sums_ = *sums;
+    for (int y = 0; y < height_; ++y) {
+      std::uint32_t* row = sums_.data() + static_cast<std::size_t>(y) * stride();
+      const auto in = mask.row(y);
+      row[0] = 0;
+      for (std::size_t x = 0; x < in.size(); ++x) row[x + 1] = row[x] + (in[x] ? 1u : 0u);
+    }
+    return {};
+  }
+
+  /// Bytes `build` takes from a workspace for a width × height mask.
+  [[nodiscard]] static constexpr std::size_t workspace_bytes(int width, int height) noexcept {
+    return workspace::footprint<std::uint32_t>(static_cast<std::size_t>(width + 1) *
+                                               static_cast<std::size_t>(height));
+  }
+
+  /// Tree pixels in row y with column in [x0, x1] (clipped to the image).
+  [[nodiscard]] std::uint32_t count(int y, int x0, int x1) const noexcept {
+    if (y < 0 || y >= height_) return 0;
+    x0 = std::max(x0, 0);
+    x1 = std::min(x1, width_ - 1);
+    if (x1 < x0) return 0;
+    const std::uint32_t* row = sums_.data() + static_cast<std::size_t>(y) * stride();
+    return row[x1 + 1] - row[x0];
+  }
+  [[nodiscard]] std::size_t stride() const noexcept { return static_cast<std::size_t>(width_) + 1; }
+  [[nodiscard]] int width() const noexcept { return width_; }
+  [[nodiscard]] int height() const noexcept { return height_; }
+
+ private:
+  std::span<std::uint32_t> sums_{};
+  int width_ = 0;
+  int height_ = 0;
+};
+
+/// A convex region given as up to four slabs |n·p − c| ≤ r plus an optional disc; its rows are
+/// intervals of pixel centres.
+struct convex_region {
+  struct slab {
+    point2f normal{1, 0};  ///< unit normal
+    float centre = 0;      ///< n·p at the slab's middle
+    float half_width = 0;  ///< half thickness
+  };
+  slab slabs[4]{};
+  int slab_count = 0;
+  point2f disc_centre{0, 0};
+  float disc_radius = -1;  ///< < 0: no disc
+  float min_y = 0, max_y = -1;
+
+  /// Columns [x0, x1] of row y inside the region; false when the row misses it.
+  [[nodiscard]] bool row_interval(int y, float& x0, float& x1) const noexcept {
+    x0 = -1e30f;
+    x1 = 1e30f;
+    const auto fy = static_cast<float>(y);
+    if (disc_radius >= 0) {
+      const float dy = fy - disc_centre.y();
+      const float h2 = disc_radius * disc_radius - dy * dy;
+      if (h2 < 0) return false;
+      const float h = std::sqrt(h2);
+      x0 = disc_centre.x() - h;
+      x1 = disc_centre.x() + h;
+    }
+    for (int i = 0; i < slab_count; ++i) {
+      const slab& s = slabs[i];
+      const float base = s.normal.y() * fy;  // n·p = nx·x + base
+      const float lo = s.centre - s.half_width - base;
+      const float hi = s.centre + s.half_width - base;
+      if (std::abs(s.normal.x()) < 1e-6f) {
+        if (0 < lo || 0 > hi) return false;
+        continue;
+      }
+      float a = lo / s.normal.x();
+      float b = hi / s.normal.x();
+      if (a > b) std::swap(a, b);
+      x0 = std::max(x0, a);
+      x1 = std::min(x1, b);
+    }
+    return x0 <= x1;
+  }
+};
+
+/// Share of tree pixels in a region, not counting the window's own branch.
+struct region_share {
+  std::uint32_t tree = 0;   ///< tree pixels in the region, outside the own-branch strip
+  std::uint32_t total = 0;  ///< pixels in the region, outside the own-branch strip
+  [[nodiscard]] float share() const noexcept {
+    return total == 0 ? 0.0f : static_cast<float>(tree) / static_cast<float>(total);
+  }
+};
+
+/// What a clearance constraint may ask about one window. Built by the ranking stage for windows
+/// that passed every geometric constraint; each query is computed on demand.
+class window_context {
+ public:
+  window_context(const tree_pixel_counter& tree, const window_measures& m, point2f first_px,
+                 point2f last_px, float own_radius_px, point2f up) noexcept
+      : tree_(&tree), m_(&m), a_(first_px), b_(last_px), own_radius_px_(own_radius_px), up_(up) {
+    point2f d = b_ - a_;
+    const float n = d.norm();
+    along_ = n > 0 ? point2f(d / n) : point2f(up_.y(), -up_.x());
+    across_ = point2f(-along_.y(), along_.x());
+    centre_ = 0.5f * (a_ + b_);
+  }
+
+  [[nodiscard]] const window_measures& measures() const noexcept { return *m_; }
+
+  /// Other tree in a band along the window: `margin_mm` beyond the branch's surface on each
+  /// side, over the window's chord.
+  [[nodiscard]] region_share band(float margin_mm) const noexcept {
+    convex_region r;
+    const float half_len = 0.5f * (b_ - a_).norm();
+    r.slabs[0] = {along_, along_.dot(centre_), half_len};
+    r.slabs[1] = {across_, across_.dot(centre_), own_radius_px_ + px(margin_mm)};
+    r.slab_count = 2;
+    return count(r, half_len + own_radius_px_ + px(margin_mm));
+  }
+
+  /// Tree in the box `width_mm` wide (along the horizon) and `height_mm` tall right above the
+  /// branch at the window's middle: the space a drone landing from above sweeps.
+  [[nodiscard]] region_share above(float width_mm, float height_mm) const noexcept {
+    convex_region r;
+    const point2f horizon(-up_.y(), up_.x());
+    const point2f base = centre_ + up_ * (own_radius_px_ + 1.0f);
+    const point2f mid = base + up_ * (0.5f * px(height_mm));
+    r.slabs[0] = {horizon, horizon.dot(mid), 0.5f * px(width_mm)};
+    r.slabs[1] = {up_, up_.dot(mid), 0.5f * px(height_mm)};
+    r.slab_count = 2;
+    return count(r, 0.5f * (px(width_mm) + px(height_mm)), mid);
+  }
+
+  /// Other tree in a disc of `radius_mm` around the window's middle (a tether's wrap circle).
+  [[nodiscard]] region_share circle(float radius_mm) const noexcept {
+    convex_region r;
+    r.disc_centre = centre_;
+    r.disc_radius = px(radius_mm);
+    return count(r, r.disc_radius);
+  }
+
+ private:
+  [[nodiscard]] float px(float mm) const noexcept { return mm / m_->mm_per_px; }
+
+  /// Counts tree and all pixels of `r` (rows within `reach` of its centre), minus the strip of
+  /// the own branch (|across·(p − centre)| ≤ own radius + 1.5 px).
+  [[nodiscard]] region_share count(const convex_region& r, float reach) const noexcept {
+    return count(r, reach, centre_);
+  }
+  [[nodiscard]] region_share count(const convex_region& r, float reach,
+                                   point2f middle) const noexcept {
+    region_share out;
+    const float strip = own_radius_px_ + 1.5f;
+    const int y0 = std::max(0, static_cast<int>(std::floor(middle.y() - reach)));
+    const int y1 = std::min(tree_->height() - 1, static_cast<int>(std::ceil(middle.y() + reach)));
+    for (int y = y0; y <= y1; ++y) {
+      float fx0 = 0, fx1 = 0;
+      if (!r.row_interval(y, fx0, fx1)) continue;
+      const int x0 = std::max(0, static_cast<int>(std::ceil(fx0)));
+      const int x1 = std::min(tree_->width() - 1, static_cast<int>(std::floor(fx1)));
+      if (x1 < x0) continue;
+      // The own-branch strip on this row, as an interval to leave out.
+      convex_region own;
+      own.slabs[0] = {across_, across_.dot(centre_), strip};
+      own.slab_count = 1;
+      float sx0 = 0, sx1 = 0;
+      int ox0 = 1, ox1 = 0;  // empty
+      if (own.row_interval(y, sx0, sx1)) {
+        ox0 = std::max(x0, static_cast<int>(std::ceil(sx0)));
+        ox1 = std::min(x1, static_cast<int>(std::floor(sx1)));
+      }
+      const auto span_all = static_cast<std::uint32_t>(x1 - x0 + 1);
+      std::uint32_t tree = tree_->count(y, x0, x1);
+      std::uint32_t all = span_all;
+      if (ox0 <= ox1) {
+        tree -= tree_->count(y, ox0, ox1);
+        all -= static_cast<std::uint32_t>(ox1 - ox0 + 1);
+      }
+      out.tree += tree;
+      out.total += all;
+    }
+    return out;
+  }
+
+  const tree_pixel_counter* tree_;
+  const window_measures* m_;
+  point2f a_, b_, centre_, along_, across_;
+  float own_radius_px_;
+  point2f up_;
+};
+
+}  // namespace perch

@@ -1,0 +1,155 @@
+/// \file
+/// Scale policies: how many millimetres one pixel spans. Fixed, from the trunk prior (the
+/// reference prototype's rule), or from depth and pinhole intrinsics per window (the paper's
+/// future work: RGB-D calibration). With depth, sites also get a 3-D camera-frame position.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <concepts>
+#include <cstdint>
+#include <span>
+
+#include "perch/core/geometry.hpp"
+#include "perch/core/image_view.hpp"
+#include "perch/core/result.hpp"
+#include "perch/core/workspace.hpp"
+
+namespace perch {
+
+/// What a scale policy may read: the image size and the largest distance-transform value on the
+/// tree (the trunk's half-width, in px), plus scratch memory.
+struct scale_context {
+  int width = 0;                ///< input image width (px)
+  int height = 0;               ///< input image height (px)
+  float max_distance_px = 0;    ///< largest Euclidean distance to background on the mask
+  std::span<const pixel> sample{};  ///< tree pixels to sample (e.g. skeleton pixels)
+  pixel offset{};                   ///< added to `sample` points to get image coordinates
+  std::span<float> scratch{};   ///< at least `sample.size()` floats
+};
+
+/// A window's own scale, and its camera-frame position when depth is known.
+struct local_scale {
+  float mm_per_px = 0;
+  bool has_position = false;
+  point3f position_m = point3f::Zero();
+};
+
+/// A scale policy: a global mm/px for the whole tree (pruning lengths, window lengths) and a
+/// local one per window. Concept checked in `find_perch`'s signature.
+/// `local(window, offset, middle, scratch, global)` gets the window's centreline points (plus
+/// `offset` = image coordinates), its middle point in image coordinates, scratch of at least
+/// `window.size()` floats, and the global scale to fall back on.
+template <class S>
+concept ScalePolicy = requires(const S& s, const scale_context& c, std::span<const pixel> window,
+                               pixel p, std::span<float> scratch) {
+  { S::name } -> std::convertible_to<std::string_view>;
+  { s.validate(c) } noexcept -> std::same_as<status>;
+  { s.global_mm_per_px(c) } noexcept -> std::same_as<result<float>>;
+  { s.local(window, p, p, scratch, float{}) } noexcept -> std::same_as<local_scale>;
+};
+
+/// A known, constant scale (e.g. from a calibrated camera at a known distance).
+struct fixed_scale {
+  static constexpr std::string_view name = "fixed";
+  float mm_per_px = 1.0f;
+
+  [[nodiscard]] status validate(const scale_context&) const noexcept {
+    if (!(std::isfinite(mm_per_px) && mm_per_px > 0))
+      return fail(errc::invalid_parameter, "fixed_scale.mm_per_px");
+    return {};
+  }
+  [[nodiscard]] result<float> global_mm_per_px(const scale_context&) const noexcept {
+    return mm_per_px;
+  }
+  [[nodiscard]] local_scale local(std::span<const pixel>, pixel, pixel, std::span<float>,
+                                  float global) const noexcept {
+    return {global, false, point3f::Zero()};
+  }
+};
+
+/// The trunk prior: the widest point of the tree is its trunk, of diameter
+/// `trunk_diameter_mm` [180 mm] (the reference prototype's calibration). Diameter at the
+/// widest point = 2·d_max − 1 px.
+struct trunk_prior {
+  static constexpr std::string_view name = "trunk-prior";
+  float trunk_diameter_mm = 180.0f;
+
+  [[nodiscard]] status validate(const scale_context&) const noexcept {
+    if (!(std::isfinite(trunk_diameter_mm) && trunk_diameter_mm > 0))
+      return fail(errc::invalid_parameter, "trunk_prior.trunk_diameter_mm");
+    return {};
+  }
+  [[nodiscard]] result<float> global_mm_per_px(const scale_context& c) const noexcept {
+    const float widest_px = 2.0f * c.max_distance_px - 1.0f;
+    if (!(widest_px > 0)) return fail(errc::empty_image, "trunk_prior: no tree pixels");
+    return trunk_diameter_mm / widest_px;
+  }
+  [[nodiscard]] local_scale local(std::span<const pixel>, pixel, pixel, std::span<float>,
+                                  float global) const noexcept {
+    return {global, false, point3f::Zero()};
+  }
+};
+
+/// Pinhole intrinsics in pixels of the (mask) image.
+struct pinhole {
+  float fx = 0, fy = 0, cx = 0, cy = 0;
+  [[nodiscard]] status validate() const noexcept {
+    for (const float v : {fx, fy, cx, cy})
+      if (!std::isfinite(v)) return fail(errc::invalid_parameter, "pinhole");
+    if (!(fx > 0 && fy > 0)) return fail(errc::invalid_parameter, "pinhole.fx/fy");
+    return {};
+  }
+};
+
+/// Scale from a depth image (millimetres along the optical axis, 0 = invalid) registered to
+/// the mask, and pinhole intrinsics: mm/px = Z / f at the median valid depth of each window's
+/// centreline pixels; the site's position is back-projected: X = (u − cx)·Z/fx,
+/// Y = (v − cy)·Z/fy, in metres.
+struct depth_scale {
+  static constexpr std::string_view name = "depth";
+  image_view<const std::uint16_t> depth_mm{};
+  pinhole intrinsics{};
+
+  [[nodiscard]] status validate(const scale_context& c) const noexcept {
+    PERCH_TRY(validate_non_empty(depth_mm));
+    PERCH_TRY(intrinsics.validate());
+    if (depth_mm.width() != c.width || depth_mm.height() != c.height)
+      return fail(errc::size_mismatch, "depth_scale.depth_mm vs mask");
+    return {};
+  }
+  [[nodiscard]] result<float> global_mm_per_px(const scale_context& c) const noexcept {
+    const float z = median_depth(c.sample, c.offset, c.scratch);
+    if (!(z > 0)) return fail(errc::no_valid_depth, "depth_scale: no valid depth on the tree");
+    return z / focal();
+  }
+  [[nodiscard]] local_scale local(std::span<const pixel> window, pixel offset, pixel middle,
+                                  std::span<float> scratch, float global) const noexcept {
+    const float z = median_depth(window, offset, scratch);
+    if (!(z > 0)) return {global, false, point3f::Zero()};
+    const float zm = z / 1000.0f;
+    return {z / focal(), true,
+            point3f((static_cast<float>(middle.x) - intrinsics.cx) * zm / intrinsics.fx,
+                    (static_cast<float>(middle.y) - intrinsics.cy) * zm / intrinsics.fy, zm)};
+  }
+
+ private:
+  [[nodiscard]] float focal() const noexcept { return 0.5f * (intrinsics.fx + intrinsics.fy); }
+  /// Median of the valid depths at `points` (0 when none); `scratch` ≥ points.size().
+  [[nodiscard]] float median_depth(std::span<const pixel> points, pixel offset,
+                                   std::span<float> scratch) const noexcept {
+    std::size_t n = 0;
+    for (const pixel q : points) {
+      const pixel p{q.x + offset.x, q.y + offset.y};
+      if (!depth_mm.contains(p.x, p.y) || n >= scratch.size()) continue;
+      const std::uint16_t z = depth_mm(p.x, p.y);
+      if (z != 0) scratch[n++] = static_cast<float>(z);
+    }
+    if (n == 0) return 0.0f;
+    const auto mid = scratch.begin() + static_cast<std::ptrdiff_t>(n / 2);
+    std::nth_element(scratch.begin(), mid, scratch.begin() + static_cast<std::ptrdiff_t>(n));
+    return *mid;
+  }
+};
+
+}  // namespace perch

@@ -1,0 +1,28 @@
+/// \file
+/// The metamorphic quadrotor of Zheng et al. 2023 ("Metamorphic aerial robot capable of mid-air
+/// shape morphing for rapid perching"): lands on a branch from above and clamps it with its arms.
+#pragma once
+
+#include "perch/platform/platform.hpp"
+#include "perch/policy/constraints.hpp"
+#include "perch/policy/scorers.hpp"
+
+namespace perch {
+
+/// Metamorphic quadrotor: descends onto the branch, so the space above the perch must be free
+/// for the drone's width and height (the PLI paper's adaptation); near-level branches within
+/// the arms' clamping range. Sizes are illustrative defaults: set them from your airframe.
+struct metamorphic_quadrotor {
+  static constexpr std::string_view name = "metamorphic";
+  platform_geometry geometry{.drone_width_mm = 300.0f, .claw_width_mm = 120.0f, .mass_kg = 1.2f,
+                             .grasp_min_mm = 25.0f, .grasp_max_mm = 90.0f};
+  all_of<diameter_range, max_slope, max_curvature, monotonic, bending_stress, free_space_above>
+      constraints{diameter_range{25.0f, 90.0f}, max_slope{20.0f}, max_curvature{}, monotonic{},
+                  bending_stress{1.2f},
+                  free_space_above{.width_mm = 300.0f, .height_mm = 200.0f, .max_share = 0.02f}};
+  pli_penalty scorer{.lambda_slope = 0.8f, .lambda_diameter = 0.2f, .slope_max_deg = 20.0f,
+                     .diameter_min_mm = 25.0f, .diameter_max_mm = 90.0f,
+                     .ideal_diameter_mm = 25.0f};
+};
+
+}  // namespace perch

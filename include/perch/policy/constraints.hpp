@@ -1,0 +1,202 @@
+/// \file
+/// The constraints of the paper (table 2 and the viability check) and the platforms' additions.
+/// Each returns by how much a window misses (in `unit`), 0 when it passes; `name` appears in
+/// diagnostics. All are aggregates: `perch::max_slope{.max_deg = 30}`.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string_view>
+
+#include "perch/analysis/clearance.hpp"
+#include "perch/analysis/measures.hpp"
+#include "perch/core/result.hpp"
+
+namespace perch {
+
+namespace detail {
+[[nodiscard]] constexpr bool finite_non_negative(float v) noexcept {
+  return v >= 0 && v <= 3.4e38f;  // false for NaN and ∞
+}
+}  // namespace detail
+
+/// Claw-region mean diameter within [min_mm, max_mm] (Li et al. 2025: 30–110 mm).
+struct diameter_range {
+  static constexpr std::string_view name = "diameter";
+  static constexpr std::string_view unit = "mm";
+  float min_mm = 30.0f;
+  float max_mm = 110.0f;
+  [[nodiscard]] float operator()(const window_measures& m) const noexcept {
+    return std::max({min_mm - m.claw_diameter_mm, m.claw_diameter_mm - max_mm, 0.0f});
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!detail::finite_non_negative(min_mm) || !detail::finite_non_negative(max_mm))
+      return fail(errc::invalid_parameter, "diameter_range");
+    if (min_mm > max_mm) return fail(errc::range_inverted, "diameter_range");
+    return {};
+  }
+};
+
+/// Slope to the true horizontal at most `max_deg` (the claw: 35°).
+struct max_slope {
+  static constexpr std::string_view name = "max_slope";
+  static constexpr std::string_view unit = "deg";
+  float max_deg = 35.0f;
+  [[nodiscard]] float operator()(const window_measures& m) const noexcept {
+    return std::max(m.slope_deg - max_deg, 0.0f);
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!(detail::finite_non_negative(max_deg) && max_deg <= 90.0f))
+      return fail(errc::invalid_parameter, "max_slope.max_deg");
+    return {};
+  }
+};
+
+/// Slope at least `min_deg` (trunk perching on near-vertical stems).
+struct min_slope {
+  static constexpr std::string_view name = "min_slope";
+  static constexpr std::string_view unit = "deg";
+  float min_deg = 70.0f;
+  [[nodiscard]] float operator()(const window_measures& m) const noexcept {
+    return std::max(min_deg - m.slope_deg, 0.0f);
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!(detail::finite_non_negative(min_deg) && min_deg <= 90.0f))
+      return fail(errc::invalid_parameter, "min_slope.min_deg");
+    return {};
+  }
+};
+
+/// Largest |curvature| over the window at most `max_per_mm` (a filter only, not a score:
+/// paper §"Exemplar results", point 2). Default 1/150 mm⁻¹: bends tighter than a 15 cm radius.
+struct max_curvature {
+  static constexpr std::string_view name = "max_curvature";
+  static constexpr std::string_view unit = "1/mm";
+  float max_per_mm = 1.0f / 150.0f;
+  [[nodiscard]] float operator()(const window_measures& m) const noexcept {
+    return std::max(m.curvature_max_per_mm - max_per_mm, 0.0f);
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!(detail::finite_non_negative(max_per_mm) && max_per_mm > 0))
+      return fail(errc::invalid_parameter, "max_curvature.max_per_mm");
+    return {};
+  }
+};
+
+/// The window never turns back along its chord by more than `tolerance_mm` (paper
+/// §"Exemplar results", point 1: branch reversal).
+struct monotonic {
+  static constexpr std::string_view name = "monotonic";
+  static constexpr std::string_view unit = "mm";
+  float tolerance_mm = 5.0f;
+  [[nodiscard]] float operator()(const window_measures& m) const noexcept {
+    return std::max(m.reversal_mm - tolerance_mm, 0.0f);
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!detail::finite_non_negative(tolerance_mm))
+      return fail(errc::invalid_parameter, "monotonic.tolerance_mm");
+    return {};
+  }
+};
+
+/// At most `max_share` of the band `margin_mm` around the branch is other tree (twigs, crossing
+/// branches): the paper's failure case of a perch buried in small branches.
+struct clearance {
+  static constexpr std::string_view name = "clearance";
+  static constexpr std::string_view unit = "share";
+  float margin_mm = 60.0f;
+  float max_share = 0.15f;
+  [[nodiscard]] float operator()(const window_measures&,
+                                 const window_context& context) const noexcept {
+    return std::max(context.band(margin_mm).share() - max_share, 0.0f);
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!(detail::finite_non_negative(margin_mm) && detail::finite_non_negative(max_share)))
+      return fail(errc::invalid_parameter, "clearance");
+    return {};
+  }
+};
+
+/// Free space above the branch for a drone that lands from above (Zheng et al. 2023) or a
+/// wing span (Zufferey et al. 2022): at most `max_share` tree in the box `width_mm` ×
+/// `height_mm` over the perch.
+struct free_space_above {
+  static constexpr std::string_view name = "free_space_above";
+  static constexpr std::string_view unit = "share";
+  float width_mm = 400.0f;
+  float height_mm = 250.0f;
+  float max_share = 0.02f;
+  [[nodiscard]] float operator()(const window_measures&,
+                                 const window_context& context) const noexcept {
+    return std::max(context.above(width_mm, height_mm).share() - max_share, 0.0f);
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!(detail::finite_non_negative(width_mm) && width_mm > 0 &&
+          detail::finite_non_negative(height_mm) && height_mm > 0 &&
+          detail::finite_non_negative(max_share)))
+      return fail(errc::invalid_parameter, "free_space_above");
+    return {};
+  }
+};
+
+/// The circle of one tether length around the perch is free of other branches, so the
+/// tethered mass wraps without tangling (Lan et al. 2024).
+struct free_circle {
+  static constexpr std::string_view name = "free_circle";
+  static constexpr std::string_view unit = "share";
+  float radius_mm = 500.0f;
+  float max_share = 0.02f;
+  [[nodiscard]] float operator()(const window_measures&,
+                                 const window_context& context) const noexcept {
+    return std::max(context.circle(radius_mm).share() - max_share, 0.0f);
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!(detail::finite_non_negative(radius_mm) && radius_mm > 0 &&
+          detail::finite_non_negative(max_share)))
+      return fail(errc::invalid_parameter, "free_circle");
+    return {};
+  }
+};
+
+/// Standard gravity, m/s².
+inline constexpr float standard_gravity = 9.80665f;
+
+/// Bending stress (MPa) at the root of a cantilevered round branch (paper eq. 4):
+/// σ = M·r/I = 4·F·L/(π·r³), F = m·g, M = F·L, I = π·r⁴/4.
+[[nodiscard]] inline float bending_stress_mpa(float mass_kg, float radius_mm,
+                                              float lever_mm) noexcept {
+  if (!(radius_mm > 0)) return 3.4e38f;
+  const float force_n = mass_kg * standard_gravity;
+  const float r_m = radius_mm / 1000.0f;
+  const float sigma_pa =
+      4.0f * force_n * (lever_mm / 1000.0f) / (std::numbers::pi_v<float> * r_m * r_m * r_m);
+  return sigma_pa / 1.0e6f;
+}
+
+/// The branch holds the drone: σ (eq. 4, lever = horizontal distance from where the branch leaves
+/// its parent, radius = claw-region radius) ≤ modulus of rupture / safety factor. Default
+/// modulus 27 MPa: the weakest of 88 North American species in the Wood Handbook.
+struct bending_stress {
+  static constexpr std::string_view name = "bending_stress";
+  static constexpr std::string_view unit = "MPa";
+  float mass_kg = 1.5f;
+  float modulus_of_rupture_mpa = 27.0f;
+  float safety_factor = 2.0f;
+  float load_factor = 1.0f;  ///< > 1 for dynamic perching (an ornithopter's impact)
+  [[nodiscard]] float operator()(const window_measures& m) const noexcept {
+    const float sigma = load_factor * bending_stress_mpa(mass_kg, 0.5f * m.claw_diameter_mm,
+                                                         m.origin_horizontal_mm);
+    return std::max(sigma - modulus_of_rupture_mpa / safety_factor, 0.0f);
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!(detail::finite_non_negative(mass_kg) && mass_kg > 0 &&
+          detail::finite_non_negative(modulus_of_rupture_mpa) && modulus_of_rupture_mpa > 0 &&
+          detail::finite_non_negative(safety_factor) && safety_factor > 0 &&
+          detail::finite_non_negative(load_factor) && load_factor > 0))
+      return fail(errc::invalid_parameter, "bending_stress");
+    return {};
+  }
+};
+
+}  // namespace perch

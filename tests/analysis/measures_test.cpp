@@ -1,0 +1,163 @@
+#include "perch/analysis/measures.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "perch/analysis/windows.hpp"
+
+namespace {
+
+// An 8-connected digital line from (0, 0) at `angle_deg` (image y down), `length` px long.
+std::vector<perch::pixel> digital_line(float angle_deg, float length) {
+  const float a = angle_deg * std::numbers::pi_v<float> / 180.0f;
+  std::vector<perch::pixel> out;
+  for (float t = 0; t <= length; t += 0.25f) {
+    const perch::pixel p{static_cast<int>(std::lround(200 + t * std::cos(a))),
+                         static_cast<int>(std::lround(200 + t * std::sin(a)))};
+    if (out.empty() || !(out.back() == p)) out.push_back(p);
+  }
+  return out;
+}
+
+// An 8-connected digital circular arc of radius `r` px over `sweep_deg`.
+std::vector<perch::pixel> digital_arc(float r, float sweep_deg) {
+  std::vector<perch::pixel> out;
+  const float sweep = sweep_deg * std::numbers::pi_v<float> / 180.0f;
+  for (float t = 0; t <= sweep; t += 0.1f / r) {
+    const perch::pixel p{static_cast<int>(std::lround(500 + r * std::cos(t))),
+                         static_cast<int>(std::lround(500 + r * std::sin(t)))};
+    if (out.empty() || !(out.back() == p)) out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("measures: slope of digital lines within 1 degree, folded into [0, 90]") {
+  for (const float angle : {0.0f, 15.0f, 30.0f, 45.0f, 60.0f, 90.0f, 120.0f, 165.0f, -30.0f}) {
+    const auto line = digital_line(angle, 120.0f);
+    float expected = std::abs(angle);
+    if (expected > 90.0f) expected = 180.0f - expected;
+    const perch::point2f h = perch::attitude{}.horizon();
+    const float chord =
+        perch::slope_to_horizon_deg(perch::to_point(line.back()) - perch::to_point(line.front()), h);
+    CAPTURE(angle);
+    CHECK(std::abs(chord - expected) <= 1.0f);
+    CHECK(std::abs(perch::fitted_slope_deg(line, h) - expected) <= 1.0f);
+    CHECK(perch::reversal_px(line) == doctest::Approx(0.0f));
+  }
+}
+
+TEST_CASE("measures: camera roll is subtracted before the slope is taken") {
+  const auto line = digital_line(20.0f, 150.0f);  // 20° in the image
+  const perch::point2f d = perch::to_point(line.back()) - perch::to_point(line.front());
+  CHECK(std::abs(perch::slope_to_horizon_deg(d, perch::attitude{20.0f}.horizon())) <= 1.0f);
+  CHECK(std::abs(perch::slope_to_horizon_deg(d, perch::attitude{-10.0f}.horizon()) - 30.0f) <= 1.0f);
+  // Gravity pointing down-left in the image = horizon rolled by +20°... gravity ⟂ horizon.
+  const float a = 20.0f * std::numbers::pi_v<float> / 180.0f;
+  const auto from_gravity = perch::attitude::from_gravity({-std::sin(a), std::cos(a)});
+  CHECK(from_gravity.roll_deg == doctest::Approx(20.0f).epsilon(1e-4));
+  CHECK(!perch::attitude{std::nanf("")}.validate());
+}
+
+TEST_CASE("measures: curvature of digital arcs within 10 percent") {
+  for (const float r : {40.0f, 80.0f, 150.0f}) {
+    const auto arc = digital_arc(r, 150.0f);
+    std::vector<float> kappa(arc.size());
+    std::vector<float> scratch(2 * arc.size());
+    perch::curvature_profile(arc, kappa, scratch, {.stencil_px = 10});
+    // Interior points (away from the clamped ends).
+    float sum = 0;
+    float worst = 0;
+    const std::size_t margin = 22;
+    for (std::size_t i = margin; i + margin < arc.size(); ++i) {
+      sum += kappa[i];
+      worst = std::max(worst, std::abs(kappa[i]));
+    }
+    const float mean = sum / static_cast<float>(arc.size() - 2 * margin);
+    CAPTURE(r);
+    CHECK(std::abs(mean * r - 1.0f) <= 0.10f);       // signed: counter-clockwise on screen
+    CHECK(std::abs(worst * r - 1.0f) <= 0.35f);      // the window max stays near 1/r
+  }
+  // A straight line has (near) zero curvature.
+  const auto line = digital_line(27.0f, 200.0f);
+  std::vector<float> kappa(line.size());
+  std::vector<float> scratch(2 * line.size());
+  perch::curvature_profile(line, kappa, scratch);
+  for (std::size_t i = 18; i + 18 < line.size(); ++i) CHECK(std::abs(kappa[i]) < 0.003f);
+}
+
+TEST_CASE("measures: a reversing branch is not monotonic") {
+  // Goes right 30 px, comes back 10 px one row down, then continues right.
+  std::vector<perch::pixel> hook;
+  for (int x = 0; x <= 30; ++x) hook.push_back({x, 0});
+  for (int x = 30; x >= 20; --x) hook.push_back({x, 1});
+  for (int x = 20; x <= 60; ++x) hook.push_back({x, 2});
+  CHECK(perch::reversal_px(hook) >= 9.0f);
+  CHECK(perch::diameter_px(1.0f) == 1.0f);
+  CHECK(perch::diameter_px(5.0f) == 9.0f);
+}
+
+TEST_CASE("windows: one drone width long, by stride, never past the branch end") {
+  const auto line = digital_line(0.0f, 300.0f);  // 301 points, 300 px
+  std::vector<float> radius(line.size(), 5.0f);  // diameter 9 px
+  std::vector<float> scratch(perch::window_scratch_floats(line.size()));
+  perch::workspace ws;
+  auto out = perch::bounded_vector<perch::window_measures>::make(ws, 64);
+  REQUIRE(out);
+  const perch::branch_geometry branch{line, radius, 3, 1, perch::origin_end::back, {10, 20}};
+  // 2 mm/px: drone 180 mm = 90 px, stride 20 mm = 10 px -> starts 0..210: 22 windows.
+  REQUIRE(perch::measure_windows(branch, perch::fixed_scale{2.0f}, 2.0f, scratch, *out));
+  REQUIRE(out->size() == 22);
+  const auto& w = (*out)[0];
+  CHECK(w.branch == 3);
+  CHECK(w.component == 1);
+  CHECK(w.length_px == doctest::Approx(90.0f));
+  CHECK(w.slope_deg == doctest::Approx(0.0f));
+  CHECK(w.diameter_mean_mm == doctest::Approx(18.0f));
+  CHECK(w.claw_diameter_mm == doctest::Approx(18.0f));
+  CHECK(w.centre.x == 200 + 45 + 10);
+  CHECK(w.centre.y == 200 + 20);
+  CHECK(w.origin_distance_mm == doctest::Approx((300 - 45) * 2.0f));
+  CHECK(w.origin_horizontal_mm == doctest::Approx((300 - 45) * 2.0f));
+  CHECK(out->back().start_px == doctest::Approx(210.0f));
+
+  // Too short for one window: none. Capacity: a status, never silent truncation.
+  out->clear();
+  REQUIRE(perch::measure_windows(branch, perch::fixed_scale{0.5f}, 0.5f, scratch, *out));
+  CHECK(out->empty());
+  auto small = perch::bounded_vector<perch::window_measures>::make(ws, 5);
+  REQUIRE(small);
+  auto full = perch::measure_windows(branch, perch::fixed_scale{2.0f}, 2.0f, scratch, *small);
+  REQUIRE(!full);
+  CHECK(full.error().code == perch::errc::capacity_exceeded);
+}
+
+TEST_CASE("windows: depth gives each window its own scale and a 3-D position") {
+  const auto line = digital_line(0.0f, 400.0f);
+  std::vector<float> radius(line.size(), 4.0f);
+  std::vector<std::uint16_t> depth(700 * 400, 0);
+  // Depth 2000 mm everywhere on the branch rows; f = 1000 px -> 2 mm/px.
+  for (int x = 0; x < 700; ++x) depth[static_cast<std::size_t>(200 * 700 + x)] = 2000;
+  const perch::depth_scale scale{perch::image_view<const std::uint16_t>(depth.data(), 700, 400),
+                                 {1000.0f, 1000.0f, 350.0f, 200.0f}};
+  std::vector<float> scratch(perch::window_scratch_floats(line.size()));
+  perch::workspace ws;
+  auto out = perch::bounded_vector<perch::window_measures>::make(ws, 64);
+  REQUIRE(out);
+  // Global scale deliberately wrong (1 mm/px): the windows re-cut themselves at 2 mm/px.
+  const perch::branch_geometry branch{line, radius, 0, 0};
+  REQUIRE(perch::measure_windows(branch, scale, 1.0f, scratch, *out));
+  REQUIRE(!out->empty());
+  const auto& w = (*out)[0];
+  CHECK(w.mm_per_px == doctest::Approx(2.0f));
+  CHECK(w.length_px == doctest::Approx(90.0f));
+  CHECK(w.diameter_mean_mm == doctest::Approx(14.0f));
+  REQUIRE(w.has_position);
+  CHECK(w.position_m.z() == doctest::Approx(2.0f));
+  CHECK(w.position_m.x() == doctest::Approx((static_cast<float>(w.centre.x) - 350.0f) * 2.0f / 1000.0f));
+  CHECK(w.position_m.y() == doctest::Approx(0.0f));
+}

@@ -1,0 +1,105 @@
+#include "perch/policy/rank.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "allocation_counter.hpp"
+#include "perch/core/image.hpp"
+#include "perch/policy/constraints.hpp"
+#include "perch/policy/scorers.hpp"
+
+namespace {
+
+perch::window_measures window(std::int32_t branch, std::uint32_t first, int x, float slope,
+                              float diameter) {
+  perch::window_measures m;
+  m.branch = branch;
+  m.first = first;
+  m.centre = {x, 50};
+  m.slope_deg = slope;
+  m.claw_diameter_mm = diameter;
+  m.mm_per_px = 1.0f;
+  m.length_px = 20.0f;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("rank: viability, eq. 3 ranking, distinct sites and why the others lost") {
+  // A horizontal branch 5 px thick along row 50, with a clump of twigs over x in [70, 90].
+  perch::image<std::uint8_t> mask(120, 100, 0);
+  for (int x = 0; x < 120; ++x)
+    for (int y = 48; y <= 52; ++y) mask(x, y) = 1;
+  for (int x = 70; x <= 90; ++x)
+    for (int y = 30; y <= 45; ++y) mask(x, y) = 1;
+  perch::workspace ws;
+  perch::tree_pixel_counter tree;
+  REQUIRE(tree.build(mask.view(), ws));
+
+  const std::vector<perch::window_measures> windows = {
+      window(0, 0, 10, 5.0f, 40.0f),    // viable, P = 0.8·5/35 + 0.2·10/80
+      window(0, 5, 15, 5.0f, 40.0f),    // viable, same penalty, too close to the first
+      window(0, 60, 80, 0.0f, 30.0f),   // ideal geometry but buried in twigs
+      window(1, 0, 40, 50.0f, 40.0f),   // too steep (by 15°)
+      window(1, 9, 45, 36.0f, 40.0f),   // too steep (by 1°): the near miss
+      window(1, 20, 55, 50.0f, 200.0f), // too steep and too thick
+      window(2, 0, 110, 2.0f, 105.0f),  // viable, P = 0.8·2/35 + 0.2·75/80
+  };
+  using constraints = perch::all_of<perch::diameter_range, perch::max_slope, perch::clearance>;
+  const constraints c{perch::diameter_range{30.0f, 110.0f}, perch::max_slope{35.0f},
+                      perch::clearance{.margin_mm = 20.0f, .max_share = 0.1f}};
+  auto make_context = [&tree](const perch::window_measures& m) {
+    const perch::point2f centre = perch::to_point(m.centre);
+    return perch::window_context(tree, m, centre - perch::point2f(10, 0),
+                                 centre + perch::point2f(10, 0), 2.5f, perch::point2f(0, -1));
+  };
+  auto ranked = perch::rank_windows(windows, c, perch::pli_penalty{}, make_context, ws,
+                                    {.top_k = 5, .site_separation_mm = 20.0f});
+  REQUIRE(ranked);
+  CHECK(ranked->windows == 7);
+  CHECK(ranked->viable == 3);
+  REQUIRE(ranked->sites.size() == 2);  // the second viable window is within 20 mm of the first
+  CHECK(ranked->sites[0].window.centre.x == 10);
+  CHECK(ranked->sites[0].penalty == doctest::Approx(0.8f * 5 / 35 + 0.2f * 10 / 80));
+  CHECK(ranked->sites[0].rank == 0);
+  CHECK(ranked->sites[1].window.centre.x == 110);
+  CHECK(ranked->sites[1].rank == 1);
+
+  REQUIRE(ranked->rejections.size() == 3);
+  CHECK(ranked->rejections[0].constraint == "diameter");
+  CHECK(ranked->rejections[0].windows == 1);  // the thick, steep one fails diameter first
+  CHECK(ranked->rejections[1].windows == 2);
+  CHECK(ranked->rejections[2].constraint == "clearance");
+  CHECK(ranked->rejections[2].windows == 1);
+  REQUIRE(ranked->near_misses[1].present);
+  CHECK(ranked->near_misses[1].miss == doctest::Approx(1.0f));
+  CHECK(ranked->near_misses[1].window.centre.x == 45);
+  CHECK(!ranked->near_misses[0].present);  // nothing failed on diameter alone
+  REQUIRE(ranked->near_misses[2].present);
+  CHECK(ranked->near_misses[2].miss > 0.1f);
+
+  // Deterministic and allocation-free on a warm workspace.
+  ws.reset();
+  REQUIRE(tree.build(mask.view(), ws));
+  perch::test::allocation_scope scope;
+  auto again = perch::rank_windows(windows, c, perch::pli_penalty{}, make_context, ws,
+                                   {.top_k = 5, .site_separation_mm = 20.0f});
+  CHECK(scope.count() == 0);
+  REQUIRE(again);
+  CHECK(again->sites[0].penalty == ranked->sites[0].penalty);
+}
+
+TEST_CASE("rank: no viable window is a normal outcome") {
+  perch::workspace ws;
+  const std::vector<perch::window_measures> windows = {window(0, 0, 10, 80.0f, 40.0f)};
+  auto ranked = perch::rank_windows(windows, perch::max_slope{}, perch::pli_penalty{},
+                                    [](const perch::window_measures&) -> perch::window_context {
+                                      PERCH_ASSERT(false, "no context constraint here");
+                                      __builtin_unreachable();
+                                    }, ws);
+  REQUIRE(ranked);
+  CHECK(ranked->sites.empty());
+  CHECK(ranked->rejections[0].windows == 1);
+}
