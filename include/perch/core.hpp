@@ -9,5 +9,6 @@
 #include "perch/core/eigen_view.hpp"
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
+#include "perch/core/mask.hpp"
 #include "perch/core/result.hpp"
 #include "perch/core/workspace.hpp"

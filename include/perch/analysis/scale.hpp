@@ -12,6 +12,7 @@
 
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
+#include "perch/core/mask.hpp"
 #include "perch/core/result.hpp"
 #include "perch/core/workspace.hpp"
 
@@ -66,6 +67,10 @@ struct fixed_scale {
                                   float global) const noexcept {
     return {global, false, point3f::Zero()};
   }
+  /// The same scale for the image reduced by `factor` (see `find_perch`'s downscale).
+  [[nodiscard]] result<fixed_scale> rescaled(float factor, workspace&) const noexcept {
+    return fixed_scale{mm_per_px / factor};
+  }
 };
 
 /// The trunk prior: the widest point of the tree is its trunk, of diameter
@@ -89,6 +94,8 @@ struct trunk_prior {
                                   float global) const noexcept {
     return {global, false, point3f::Zero()};
   }
+  /// Measured on whatever image it is given: unchanged by downscaling.
+  [[nodiscard]] result<trunk_prior> rescaled(float, workspace&) const noexcept { return *this; }
 };
 
 /// Pinhole intrinsics in pixels of the (mask) image.
@@ -131,6 +138,29 @@ struct depth_scale {
     return {z / focal(), true,
             point3f((static_cast<float>(middle.x) - intrinsics.cx) * zm / intrinsics.fx,
                     (static_cast<float>(middle.y) - intrinsics.cy) * zm / intrinsics.fy, zm)};
+  }
+
+  /// The policy for the image reduced by `factor`: depth sampled at each reduced pixel's
+  /// centre (nearest input pixel; workspace memory) and intrinsics scaled to match.
+  [[nodiscard]] result<depth_scale> rescaled(float factor, workspace& ws) const noexcept {
+    if (factor == 1.0f) return *this;
+    const int w = scaled_extent(depth_mm.width(), factor);
+    const int h = scaled_extent(depth_mm.height(), factor);
+    auto buffer = ws.allocate<std::uint16_t>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+    if (!buffer) return unexpected{buffer.error()};
+    image_view<std::uint16_t> reduced(buffer->data(), w, h);
+    auto source = [&](int a, int limit) {
+      const auto v = static_cast<int>((static_cast<float>(a) + 0.5f) / factor);
+      return std::min(limit - 1, v);
+    };
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        reduced(x, y) = depth_mm(source(x, depth_mm.width()), source(y, depth_mm.height()));
+    depth_scale out = *this;
+    out.depth_mm = reduced;
+    out.intrinsics = {intrinsics.fx * factor, intrinsics.fy * factor,
+                      (intrinsics.cx + 0.5f) * factor - 0.5f, (intrinsics.cy + 0.5f) * factor - 0.5f};
+    return out;
   }
 
  private:

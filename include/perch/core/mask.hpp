@@ -1,0 +1,180 @@
+/// \file
+/// Preparing a tree mask for analysis: the tree's bounding box, and a binarised, optionally
+/// area-downscaled copy of just that box with a one-pixel background border, so every later
+/// stage works on the tree's pixels only and reads 3×3 neighbourhoods without bounds checks.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <span>
+
+#include "perch/core/geometry.hpp"
+#include "perch/core/image_view.hpp"
+#include "perch/core/result.hpp"
+#include "perch/core/workspace.hpp"
+
+namespace perch {
+
+/// An inclusive pixel rectangle; `empty()` when it holds no pixel.
+struct pixel_box {
+  int x_min = 0, y_min = 0, x_max = -1, y_max = -1;
+  [[nodiscard]] constexpr bool empty() const noexcept { return x_max < x_min || y_max < y_min; }
+  [[nodiscard]] constexpr int width() const noexcept { return empty() ? 0 : x_max - x_min + 1; }
+  [[nodiscard]] constexpr int height() const noexcept { return empty() ? 0 : y_max - y_min + 1; }
+};
+
+/// The bounding box of the non-zero pixels of `mask` (empty box when there are none).
+/// Complexity: one pass over the rows; rows between the first and last tree row are scanned
+/// from both ends only.
+template <BinaryView Mask>
+[[nodiscard]] constexpr pixel_box tree_bounds(const Mask& mask) noexcept {
+  pixel_box box{mask.width(), mask.height(), -1, -1};
+  for (int y = 0; y < mask.height(); ++y) {
+    const auto row = mask.row(y);
+    int first = 0;
+    const int w = mask.width();
+    while (first < w && !static_cast<bool>(row[static_cast<std::size_t>(first)])) ++first;
+    if (first == w) continue;
+    int last = w - 1;
+    while (!static_cast<bool>(row[static_cast<std::size_t>(last)])) --last;
+    box.x_min = std::min(box.x_min, first);
+    box.x_max = std::max(box.x_max, last);
+    box.y_min = std::min(box.y_min, y);
+    box.y_max = y;
+  }
+  if (box.x_max < 0) return {};
+  return box;
+}
+
+/// The mask as the pipeline analyses it.
+///
+/// `pixels` is 1 on tree and 0 elsewhere, with a background border of one pixel; `offset` maps
+/// its coordinates to the analysed frame (`analysed = local + offset`), and the analysed frame
+/// maps to the input image by `input = (analysed + 0.5) / factor − 0.5` (identity at factor 1).
+struct prepared_mask {
+  image_view<std::uint8_t> pixels{};
+  pixel offset{};
+  float factor = 1.0f;        ///< analysed size / input size
+  int analysed_width = 0;     ///< the whole input image at `factor`
+  int analysed_height = 0;
+  std::int64_t tree_pixels = 0;  ///< non-zero pixels in `pixels`
+
+  /// A point of the analysed frame in input-image pixels.
+  [[nodiscard]] point2f to_input(point2f analysed) const noexcept {
+    if (factor == 1.0f) return analysed;
+    return ((analysed.array() + 0.5f) / factor - 0.5f).matrix();
+  }
+};
+
+/// Size of the analysed image for an input dimension at `factor` (at least 1).
+[[nodiscard]] inline int scaled_extent(int input, float factor) noexcept {
+  return std::max(1, static_cast<int>(std::ceil(static_cast<double>(input) * static_cast<double>(factor) - 1e-6)));
+}
+
+/// Bytes `prepare_mask` takes from the workspace for a tree box of `box_width` × `box_height`
+/// input pixels at `factor` (an upper bound when factor < 1).
+[[nodiscard]] inline std::size_t prepare_mask_workspace_bytes(int box_width, int box_height,
+                                                              float factor = 1.0f) noexcept {
+  const auto w = static_cast<std::size_t>(scaled_extent(box_width, factor) + 3);
+  const auto h = static_cast<std::size_t>(scaled_extent(box_height, factor) + 3);
+  std::size_t bytes = workspace::footprint<std::uint8_t>(w * h);
+  if (factor < 1.0f) bytes += workspace::footprint<float>(static_cast<std::size_t>(box_width) + 2);
+  return bytes;
+}
+
+/// Binarises the tree's bounding box of `mask` into workspace memory with a one-pixel border,
+/// reducing it by `factor` ∈ (0, 1] on the way.
+///
+/// Reduction is area-based: an analysed pixel is tree when at least half of its footprint in the
+/// input (its area, with fractional overlaps at the edges) is tree — thin branches keep their
+/// width in proportion instead of vanishing or thickening as with nearest-neighbour sampling.
+/// An empty mask gives a 2×2 all-background image and `tree_pixels == 0` (not an error).
+/// Errors: view errors of `mask`; `invalid_parameter` for a factor outside (0, 1];
+/// `workspace_too_small` / `out_of_memory` from the workspace.
+/// Complexity: O(box pixels), one pass.
+template <BinaryView Mask>
+[[nodiscard]] result<prepared_mask> prepare_mask(const Mask& mask, workspace& ws,
+                                                 float factor = 1.0f) noexcept {
+  PERCH_TRY(validate_non_empty(mask));
+  if (!(factor > 0.0f && factor <= 1.0f)) return fail(errc::invalid_parameter, "downscale factor");
+  prepared_mask out;
+  out.factor = factor;
+  out.analysed_width = scaled_extent(mask.width(), factor);
+  out.analysed_height = scaled_extent(mask.height(), factor);
+  const pixel_box box = tree_bounds(mask);
+  if (box.empty()) {
+    auto pixels = ws.allocate_zeroed<std::uint8_t>(4);
+    if (!pixels) return unexpected{pixels.error()};
+    out.pixels = image_view<std::uint8_t>(pixels->data(), 2, 2);
+    return out;
+  }
+
+  // The analysed-frame box covering the input box.
+  const double inv = 1.0 / static_cast<double>(factor);
+  const int ax0 = static_cast<int>(std::floor(box.x_min * static_cast<double>(factor)));
+  const int ay0 = static_cast<int>(std::floor(box.y_min * static_cast<double>(factor)));
+  const int ax1 = std::min(out.analysed_width - 1,
+                           static_cast<int>(std::ceil((box.x_max + 1) * static_cast<double>(factor))) - 1);
+  const int ay1 = std::min(out.analysed_height - 1,
+                           static_cast<int>(std::ceil((box.y_max + 1) * static_cast<double>(factor))) - 1);
+  const int w = ax1 - ax0 + 3;
+  const int h = ay1 - ay0 + 3;
+  auto pixels = ws.allocate_zeroed<std::uint8_t>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  if (!pixels) return unexpected{pixels.error()};
+  out.pixels = image_view<std::uint8_t>(pixels->data(), w, h);
+  out.offset = {ax0 - 1, ay0 - 1};
+
+  std::int64_t count = 0;
+  if (factor == 1.0f) {
+    for (int y = box.y_min; y <= box.y_max; ++y) {
+      const auto src = mask.row(y);
+      std::uint8_t* dst = &out.pixels(1, y - box.y_min + 1);
+      for (int x = box.x_min; x <= box.x_max; ++x) {
+        const std::uint8_t v = static_cast<bool>(src[static_cast<std::size_t>(x)]) ? 1 : 0;
+        dst[x - box.x_min] = v;
+        count += v;
+      }
+    }
+    out.tree_pixels = count;
+    return out;
+  }
+
+  // Area reduction: accumulate the input rows overlapping each analysed row with their
+  // vertical overlap as weight, then integrate columns with their horizontal overlap.
+  const int in_x0 = static_cast<int>(std::floor(ax0 * inv));
+  const int in_x1 = std::min(mask.width() - 1, static_cast<int>(std::ceil((ax1 + 1) * inv)));
+  auto column = ws.allocate<float>(static_cast<std::size_t>(in_x1 - in_x0 + 1));
+  if (!column) return unexpected{column.error()};
+  auto overlap = [](double a0, double a1, double b0, double b1) {
+    return std::max(0.0, std::min(a1, b1) - std::max(a0, b0));
+  };
+  for (int ay = ay0; ay <= ay1; ++ay) {
+    const double fy0 = ay * inv;
+    const double fy1 = std::min((ay + 1) * inv, static_cast<double>(mask.height()));
+    std::fill(column->begin(), column->end(), 0.0f);
+    for (int y = static_cast<int>(fy0); y < mask.height() && y < fy1; ++y) {
+      const auto wy = static_cast<float>(overlap(fy0, fy1, y, y + 1.0));
+      const auto src = mask.row(y);
+      for (int x = in_x0; x <= in_x1; ++x)
+        if (static_cast<bool>(src[static_cast<std::size_t>(x)]))
+          (*column)[static_cast<std::size_t>(x - in_x0)] += wy;
+    }
+    std::uint8_t* dst = &out.pixels(1, ay - ay0 + 1);
+    for (int ax = ax0; ax <= ax1; ++ax) {
+      const double fx0 = ax * inv;
+      const double fx1 = std::min((ax + 1) * inv, static_cast<double>(mask.width()));
+      double tree = 0;
+      for (int x = std::max(in_x0, static_cast<int>(fx0)); x <= in_x1 && x < fx1; ++x)
+        tree += overlap(fx0, fx1, x, x + 1.0) * static_cast<double>((*column)[static_cast<std::size_t>(x - in_x0)]);
+      const double area = (fx1 - fx0) * (fy1 - fy0);
+      const std::uint8_t v = area > 0 && tree >= 0.5 * area ? 1 : 0;
+      dst[ax - ax0] = v;
+      count += v;
+    }
+  }
+  out.tree_pixels = count;
+  return out;
+}
+
+}  // namespace perch
