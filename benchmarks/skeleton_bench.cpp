@@ -1,0 +1,165 @@
+// Skeleton stage: medial axis, Zhang-Suen and Guo-Hall (default one-pixel mode, and faithful
+// for the thinning methods) on synthetic tree masks at 640x480, 1920x1080 and 4000x3000 and a
+// 50 % blob mask; with OpenCV's ximgproc, cv::ximgproc::thinning on the same masks, reporting
+// how many pixels differ from perch's faithful output of the same method.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "perch/core/image.hpp"
+#include "perch/distance.hpp"
+#include "perch/skeleton.hpp"
+
+#if PERCH_HAVE_OPENCV && __has_include(<opencv2/ximgproc.hpp>)
+#include <opencv2/ximgproc.hpp>
+#define PERCH_BENCH_XIMGPROC 1
+#endif
+
+namespace {
+
+// A deterministic tree: a trunk from the bottom centre, each branch forking twice with
+// thinner, shorter children; strokes are discs swept along the segments.
+void draw_stroke(perch::image<std::uint8_t>& m, double x0, double y0, double x1, double y1,
+                 double r) {
+  const double len = std::hypot(x1 - x0, y1 - y0);
+  const int steps = static_cast<int>(len) + 1;
+  for (int s = 0; s <= steps; ++s) {
+    const double t = static_cast<double>(s) / steps;
+    const double cx = x0 + t * (x1 - x0), cy = y0 + t * (y1 - y0);
+    const int ri = static_cast<int>(std::ceil(r));
+    for (int dy = -ri; dy <= ri; ++dy)
+      for (int dx = -ri; dx <= ri; ++dx) {
+        const int x = static_cast<int>(std::lround(cx)) + dx;
+        const int y = static_cast<int>(std::lround(cy)) + dy;
+        if (x < 0 || y < 0 || x >= m.width() || y >= m.height()) continue;
+        if (dx * dx + dy * dy <= r * r) m(x, y) = 1;
+      }
+  }
+}
+
+void draw_branch(perch::image<std::uint8_t>& m, double x, double y, double angle, double length,
+                 double r, int depth) {
+  const double x1 = x + length * std::cos(angle), y1 = y - length * std::sin(angle);
+  draw_stroke(m, x, y, x1, y1, r);
+  if (depth == 0 || r < 1.0) return;
+  const double spread = 0.45 + 0.1 * (depth % 3);
+  draw_branch(m, x1, y1, angle + spread, length * 0.72, r * 0.68, depth - 1);
+  draw_branch(m, x1, y1, angle - spread * 0.8, length * 0.75, r * 0.7, depth - 1);
+  if (depth % 2 == 0) draw_branch(m, x1, y1, angle + 0.1, length * 0.6, r * 0.6, depth - 1);
+}
+
+perch::image<std::uint8_t> tree_mask(int w, int h) {
+  perch::image<std::uint8_t> m(w, h, 0);
+  const double s = h / 1080.0;
+  draw_branch(m, w / 2.0, h - 1.0, 1.5707963, 330.0 * s, 26.0 * s, 7);
+  return m;
+}
+
+perch::image<std::uint8_t> blob_mask(int w, int h) {
+  perch::image<std::uint8_t> m(w, h, 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double v = std::sin(x * 0.013) * std::cos(y * 0.017) + 0.5 * std::sin((x + y) * 0.007);
+      m(x, y) = v > 0.0 ? 1 : 0;
+    }
+  return m;
+}
+
+double foreground_share(const perch::image<std::uint8_t>& m) {
+  std::size_t n = 0;
+  for (int y = 0; y < m.height(); ++y)
+    for (int x = 0; x < m.width(); ++x) n += m(x, y);
+  return static_cast<double>(n) / static_cast<double>(m.view().size());
+}
+
+template <class S, bool Blob>
+void perch_skeleton(benchmark::State& state, S method) {
+  const int w = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
+  const auto mask = Blob ? blob_mask(w, h) : tree_mask(w, h);
+  perch::image<std::uint32_t> d2(w, h);
+  perch::image<std::uint8_t> out(w, h);
+  perch::workspace ws;
+  if (!perch::distance_transform_sq(mask.view(), d2.view(), ws)) state.SkipWithError("edt");
+  if (!method(mask.view(), d2.view(), out.view(), ws)) state.SkipWithError("skeleton");
+  for (auto _ : state) {
+    auto s = method(mask.view(), d2.view(), out.view(), ws);
+    benchmark::DoNotOptimize(s);
+    benchmark::DoNotOptimize(out.data());
+  }
+  std::size_t count = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) count += out(x, y);
+  state.counters["skeleton_px"] = static_cast<double>(count);
+  state.counters["fg_%"] = 100.0 * foreground_share(mask);
+  state.counters["pixels/s"] = benchmark::Counter(static_cast<double>(w) * h,
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+}
+
+using perch::thinness;
+void medial_tree(benchmark::State& s) { perch_skeleton<perch::medial_axis, false>(s, {}); }
+void medial_blob(benchmark::State& s) { perch_skeleton<perch::medial_axis, true>(s, {}); }
+void zhang_tree(benchmark::State& s) { perch_skeleton<perch::zhang_suen, false>(s, {}); }
+void zhang_faithful(benchmark::State& s) {
+  perch_skeleton<perch::zhang_suen, false>(s, {.thinness = thinness::faithful});
+}
+void guo_tree(benchmark::State& s) { perch_skeleton<perch::guo_hall, false>(s, {}); }
+void guo_faithful(benchmark::State& s) {
+  perch_skeleton<perch::guo_hall, false>(s, {.thinness = thinness::faithful});
+}
+BENCHMARK(medial_tree)->Name("medial_axis/tree")->Args({640, 480})->Args({1920, 1080})
+    ->Args({4000, 3000})->Unit(benchmark::kMillisecond);
+BENCHMARK(medial_blob)->Name("medial_axis/blob50")->Args({1920, 1080})->Unit(benchmark::kMillisecond);
+BENCHMARK(zhang_tree)->Name("zhang_suen/tree")->Args({640, 480})->Args({1920, 1080})
+    ->Args({4000, 3000})->Unit(benchmark::kMillisecond);
+BENCHMARK(zhang_faithful)->Name("zhang_suen_faithful/tree")->Args({1920, 1080})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(guo_tree)->Name("guo_hall/tree")->Args({640, 480})->Args({1920, 1080})
+    ->Args({4000, 3000})->Unit(benchmark::kMillisecond);
+BENCHMARK(guo_faithful)->Name("guo_hall_faithful/tree")->Args({1920, 1080})
+    ->Unit(benchmark::kMillisecond);
+
+#if PERCH_BENCH_XIMGPROC
+template <class S>
+void opencv_thinning(benchmark::State& state, int type, S faithful) {
+  const int w = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
+  auto mask = tree_mask(w, h);
+  perch::image<std::uint8_t> scaled(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) scaled(x, y) = mask(x, y) ? 255 : 0;
+  const cv::Mat m(h, w, CV_8U, scaled.data());
+  cv::Mat out;
+  cv::ximgproc::thinning(m, out, type);
+  perch::image<std::uint32_t> d2(w, h);
+  perch::image<std::uint8_t> ours(w, h);
+  perch::workspace ws;
+  if (!perch::distance_transform_sq(mask.view(), d2.view(), ws) ||
+      !faithful(mask.view(), d2.view(), ours.view(), ws))
+    state.SkipWithError("perch");
+  long differ = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) differ += (out.at<std::uint8_t>(y, x) != 0) != (ours(x, y) != 0);
+  state.counters["differ_px"] = static_cast<double>(differ);
+  for (auto _ : state) {
+    cv::ximgproc::thinning(m, out, type);
+    benchmark::DoNotOptimize(out.data);
+  }
+  state.counters["pixels/s"] = benchmark::Counter(static_cast<double>(w) * h,
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+}
+void opencv_zhang(benchmark::State& s) {
+  opencv_thinning(s, cv::ximgproc::THINNING_ZHANGSUEN, perch::zhang_suen{.thinness = thinness::faithful});
+}
+void opencv_guo(benchmark::State& s) {
+  opencv_thinning(s, cv::ximgproc::THINNING_GUOHALL, perch::guo_hall{.thinness = thinness::faithful});
+}
+BENCHMARK(opencv_zhang)->Name("opencv_thinning/zhang_suen/tree")->Args({640, 480})
+    ->Args({1920, 1080})->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(opencv_guo)->Name("opencv_thinning/guo_hall/tree")->Args({640, 480})
+    ->Args({1920, 1080})->Unit(benchmark::kMillisecond)->Iterations(3);
+#endif
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,123 @@
+/// \file
+/// Private helpers of the distance stage: the lower envelope of parabolas of one foreground run
+/// (the second phase of Meijster, Roerdink & Hesselink 2000), and fast row scanning.
+#pragma once
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+namespace perch::detail {
+
+/// Floor division for a positive divisor (Meijster's `div` rounds down). The quotient is
+/// estimated in double precision (much faster than a 64-bit integer division) and corrected
+/// exactly with integer products.
+[[nodiscard]] inline std::int64_t floor_div(std::int64_t a, std::int64_t b) noexcept {
+  auto q = static_cast<std::int64_t>(std::floor(static_cast<double>(a) / static_cast<double>(b)));
+  if (q * b > a) --q;
+  if ((q + 1) * b <= a) ++q;
+  return q;
+}
+
+/// Index of the first non-zero element of `row` in [x, w), or w. Skips eight zero bytes at a
+/// time when the elements are one byte wide (the usual mask).
+template <class T>
+[[nodiscard]] inline int next_foreground(const T* row, int x, int w) noexcept {
+  if constexpr (sizeof(T) == 1 && std::is_integral_v<T>) {
+    while (x + 8 <= w) {
+      std::uint64_t word = 0;
+      std::memcpy(&word, row + x, 8);
+      if (word != 0) break;
+      x += 8;
+    }
+  }
+  while (x < w && !static_cast<bool>(row[x])) ++x;
+  return x;
+}
+
+/// Index of the first zero element of `row` in [x, w), or w.
+template <class T>
+[[nodiscard]] inline int next_background(const T* row, int x, int w) noexcept {
+  while (x < w && static_cast<bool>(row[x])) ++x;
+  return x;
+}
+
+/// Meijster et al. 2000, phase 2, for one run of `m` sites `g[0..m)` whose first and last site
+/// are background (g = 0): on return `site[u]` (u in [1, m-1)) is the site minimising
+/// (u − i)² + g[i]², and the function value is `best[u]`.
+/// `s` and `t` are scratch of m entries. Complexity O(m).
+inline void envelope_sq(const std::uint32_t* g, int m, std::int32_t* s, std::int32_t* t,
+                        std::int32_t* site) noexcept {
+  auto f = [g](std::int64_t x, std::int64_t i) noexcept {
+    const std::int64_t gi = g[i];
+    return (x - i) * (x - i) + gi * gi;
+  };
+  auto sep = [g](std::int64_t i, std::int64_t u) noexcept {
+    const std::int64_t gi = g[i];
+    const std::int64_t gu = g[u];
+    return floor_div(u * u - i * i + gu * gu - gi * gi, 2 * (u - i));
+  };
+  int q = 0;
+  s[0] = 0;
+  t[0] = 0;
+  for (int u = 1; u < m; ++u) {
+    while (q >= 0 && f(t[q], s[q]) > f(t[q], u)) --q;
+    if (q < 0) {
+      q = 0;
+      s[0] = u;
+    } else {
+      const std::int64_t w = 1 + sep(s[q], u);
+      if (w < m) {
+        ++q;
+        s[q] = u;
+        t[q] = static_cast<std::int32_t>(w);
+      }
+    }
+  }
+  for (int u = m - 1; u >= 0; --u) {
+    site[u] = s[q];
+    if (u == t[q]) --q;
+  }
+}
+
+/// The same envelope over real-valued heights `g` with horizontal spacing² `sx2`: the site
+/// minimising sx2·(u − i)² + g[i]². Intersections are computed in double precision.
+inline void envelope_real(const float* g, int m, double sx2, std::int32_t* s, std::int32_t* t,
+                          std::int32_t* site) noexcept {
+  auto f = [g, sx2](double x, std::int32_t i) noexcept {
+    const double gi = static_cast<double>(g[i]);
+    const double dx = x - static_cast<double>(i);
+    return sx2 * dx * dx + gi * gi;
+  };
+  int q = 0;
+  s[0] = 0;
+  t[0] = 0;
+  for (int u = 1; u < m; ++u) {
+    while (q >= 0 && f(t[q], s[q]) > f(t[q], u)) --q;
+    if (q < 0) {
+      q = 0;
+      s[0] = u;
+    } else {
+      const double i = s[q];
+      const double uu = u;
+      const double gi = static_cast<double>(g[s[q]]);
+      const double gu = static_cast<double>(g[u]);
+      const double x = (sx2 * (uu * uu - i * i) + gu * gu - gi * gi) / (2.0 * sx2 * (uu - i));
+      // The first integer where u is strictly better, clamped to the run (x may be huge).
+      const double w = x < -1.0 ? 0.0 : (x >= m ? static_cast<double>(m) : std::floor(x) + 1.0);
+      if (w < m) {
+        ++q;
+        s[q] = u;
+        t[q] = static_cast<std::int32_t>(w);
+      }
+    }
+  }
+  for (int u = m - 1; u >= 0; --u) {
+    site[u] = s[q];
+    if (u == t[q]) --q;
+  }
+}
+
+}  // namespace perch::detail

@@ -1,0 +1,257 @@
+/// \file
+/// The exact Euclidean distance transform of a binary mask: for every foreground pixel, the
+/// distance to the nearest background pixel centre (Meijster, Roerdink & Hesselink 2000), as
+/// squared integers, optionally with the nearest background pixel, or as real distances for
+/// anisotropic pixels.
+#pragma once
+
+#include <cmath>
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+
+#include "perch/core/geometry.hpp"
+#include "perch/core/image_view.hpp"
+#include "perch/core/result.hpp"
+#include "perch/core/workspace.hpp"
+#include "perch/distance/detail/envelope.hpp"
+
+namespace perch {
+
+/// Options of the real-valued distance transform: the physical size of a pixel.
+struct distance_options {
+  float spacing_x = 1.0f;  ///< width of a pixel (any unit; the distances come out in it), > 0
+  float spacing_y = 1.0f;  ///< height of a pixel, > 0
+
+  /// `invalid_parameter` (naming the field) unless both spacings are finite and positive.
+  [[nodiscard]] constexpr status validate() const noexcept {
+    if (!(spacing_x > 0.0f) || !(spacing_x <= 3.0e38f))
+      return fail(errc::invalid_parameter, "distance_options.spacing_x");
+    if (!(spacing_y > 0.0f) || !(spacing_y <= 3.0e38f))
+      return fail(errc::invalid_parameter, "distance_options.spacing_y");
+    return {};
+  }
+};
+
+/// Bytes of workspace every distance transform of a `width` × `height` mask takes (exact: the
+/// sum of `workspace::footprint` of its row buffers; the same for all variants). The memory is
+/// given back before the call returns.
+[[nodiscard]] constexpr std::size_t distance_workspace_bytes(int width, int height) noexcept {
+  if (width <= 0 || height <= 0) return 0;
+  return 6 * workspace::footprint<std::uint32_t>(static_cast<std::size_t>(width) + 2);
+}
+
+namespace detail {
+
+enum class edt_output : std::uint8_t { squared, nearest, real };
+
+template <class V>
+[[nodiscard]] constexpr auto* row_pointer(const V& view, int y) noexcept {
+  return view.data() + static_cast<std::ptrdiff_t>(y) * view.stride();
+}
+
+/// The transform itself; `Out` is the output kind, `near` is used for `edt_output::nearest`.
+template <edt_output Out, class Mask, class Dist, class Near>
+[[nodiscard]] status distance_transform_impl(const Mask& mask, const Dist& dist, const Near& near,
+                                             workspace& ws,
+                                             const distance_options& options) noexcept {
+  using D = typename Dist::value_type;
+  const int w = mask.width();
+  const int h = mask.height();
+  const auto n = static_cast<std::size_t>(w) + 2;
+  const auto entry = ws.mark();
+  const std::size_t used_at_entry = ws.used();
+  auto down = ws.allocate<std::uint32_t>(n);
+  auto g_int = ws.allocate<std::uint32_t>(Out == edt_output::real ? 0 : n);
+  auto g_real = ws.allocate<float>(Out == edt_output::real ? n : 0);
+  auto s = ws.allocate<std::int32_t>(n);
+  auto t = ws.allocate<std::int32_t>(n);
+  auto site = ws.allocate<std::int32_t>(n);
+  auto near_row = ws.allocate<std::int32_t>(n);
+  if (!down || !g_int || !g_real || !s || !t || !site || !near_row) {
+    ws.rewind(entry);
+    const bool short_of_room =
+        (!down && down.error().code == errc::workspace_too_small) ||
+        (!g_int && g_int.error().code == errc::workspace_too_small) ||
+        (!g_real && g_real.error().code == errc::workspace_too_small) ||
+        (!s && s.error().code == errc::workspace_too_small) ||
+        (!t && t.error().code == errc::workspace_too_small) ||
+        (!site && site.error().code == errc::workspace_too_small) ||
+        (!near_row && near_row.error().code == errc::workspace_too_small);
+    if (short_of_room)
+      return fail(errc::workspace_too_small, "distance_transform",
+                  used_at_entry + distance_workspace_bytes(w, h));
+    return fail(errc::out_of_memory, "distance_transform");
+  }
+  std::uint32_t* dn = down->data();
+  std::int32_t* nr = near_row->data();
+
+  // Phase 1, downwards: the run length of foreground above and including each pixel, kept per
+  // column in a row buffer (so the loop vectorises) and stored in the output (rows outside the
+  // image are background).
+  for (int x = 0; x < w; ++x) dn[x] = 0;
+  for (int y = 0; y < h; ++y) {
+    const auto* m = row_pointer(mask, y);
+    D* d = row_pointer(dist, y);
+    for (int x = 0; x < w; ++x) {
+      const std::uint32_t up = static_cast<bool>(m[x]) ? dn[x] + 1 : 0;
+      dn[x] = up;
+      d[x] = static_cast<D>(up);
+    }
+  }
+  for (int x = 0; x < w; ++x) dn[x] = 0;
+
+  // Phase 1 upwards (run length below, kept per column in `down`), then phase 2 on the row:
+  // each run of foreground [a, b] sees only the sites a−1 … b+1, because the background at
+  // a−1 and b+1 (or outside the image) is nearer than anything beyond it.
+  const double sx = static_cast<double>(options.spacing_x);
+  const double sx2 = sx * sx;
+  const float sy = options.spacing_y;
+  for (int y = h - 1; y >= 0; --y) {
+    const auto* m = row_pointer(mask, y);
+    D* d = row_pointer(dist, y);
+    for (int x = 0; x < w; ++x) dn[x] = static_cast<bool>(m[x]) ? dn[x] + 1 : 0;
+    if constexpr (Out == edt_output::nearest) {
+      pixel* p = row_pointer(near, y);
+      for (int x = 0; x < w; ++x)
+        if (!static_cast<bool>(m[x])) p[x] = pixel{x, y};
+    }
+    int x = 0;
+    while (true) {
+      const int a = detail::next_foreground(m, x, w);
+      if (a == w) break;
+      const int b = detail::next_background(m, a, w) - 1;
+      const int sites = b - a + 3;  // a−1 … b+1
+      if constexpr (Out == edt_output::real) {
+        float* g = g_real->data();
+        g[0] = 0.0f;
+        g[sites - 1] = 0.0f;
+        for (int u = 1; u + 1 < sites; ++u) {
+          const int c = a - 1 + u;
+          const auto up = static_cast<std::uint32_t>(d[c]);
+          g[u] = sy * static_cast<float>(up < dn[c] ? up : dn[c]);
+        }
+        detail::envelope_real(g, sites, sx2, s->data(), t->data(), site->data());
+        for (int u = 1; u + 1 < sites; ++u) {
+          const std::int32_t i = (*site)[static_cast<std::size_t>(u)];
+          const double dx = static_cast<double>(u - i);
+          const double gi = static_cast<double>(g[i]);
+          d[a - 1 + u] = static_cast<float>(std::sqrt(sx2 * dx * dx + gi * gi));
+        }
+      } else {
+        std::uint32_t* g = g_int->data();
+        g[0] = 0;
+        g[sites - 1] = 0;
+        for (int u = 1; u + 1 < sites; ++u) {
+          const int c = a - 1 + u;
+          const std::uint32_t up = d[c];
+          const bool from_above = up <= dn[c];
+          g[u] = from_above ? up : dn[c];
+          if constexpr (Out == edt_output::nearest)
+            nr[u] = from_above ? y - static_cast<std::int32_t>(up)
+                               : y + static_cast<std::int32_t>(dn[c]);
+        }
+        detail::envelope_sq(g, sites, s->data(), t->data(), site->data());
+        for (int u = 1; u + 1 < sites; ++u) {
+          const std::int32_t i = (*site)[static_cast<std::size_t>(u)];
+          const auto dx = static_cast<std::uint32_t>(u > i ? u - i : i - u);
+          d[a - 1 + u] = dx * dx + g[i] * g[i];
+          if constexpr (Out == edt_output::nearest) {
+            const bool edge = i == 0 || i == sites - 1;
+            row_pointer(near, y)[a - 1 + u] = pixel{a - 1 + i, edge ? y : nr[i]};
+          }
+        }
+      }
+      x = b + 1;
+    }
+  }
+  ws.rewind(entry);
+  return {};
+}
+
+template <class Mask, class Dist>
+[[nodiscard]] constexpr status validate_distance_views(const Mask& mask, const Dist& dist) noexcept {
+  PERCH_TRY(validate_non_empty(mask));
+  PERCH_TRY(validate(dist));
+  PERCH_TRY(same_size(mask, dist));
+  return {};
+}
+
+}  // namespace detail
+
+/// Squared exact Euclidean distance transform.
+///
+/// Writes to every pixel of `dist2` the squared distance from that pixel's centre to the
+/// nearest background pixel centre: 0 on background, ≥ 1 on foreground (non-zero mask pixels).
+/// Pixels outside the image count as background, so a mask touching the border is measured to
+/// the border (a foreground pixel in the first row has distance at most 1).
+///
+/// Method: Meijster, Roerdink & Hesselink, "A general algorithm for computing distance
+/// transforms in linear time" (Mathematical Morphology and its Applications to Image and Signal
+/// Processing, 2000), the Euclidean case: phase 1 gives each pixel its distance to the nearest
+/// background pixel in its column (one pass down, one up); phase 2 takes, along each row, the
+/// lower envelope of the parabolas (x − i)² + g(i)². Phase 2 runs per run of foreground pixels:
+/// a run [a, b] needs only the sites a−1 … b+1 (the background at a−1 and b+1 is nearer than any
+/// site beyond it), so phase 2 costs O(foreground) instead of O(width × height).
+///
+/// Preconditions: none (bad input is reported). Errors: view errors of `mask` (empty, null
+/// data, stride < width, too large) or `dist2`, `size_mismatch` when they differ in size,
+/// `workspace_too_small` (with `error::needed`) when a borrowed workspace cannot hold
+/// `distance_workspace_bytes(width, height)`.
+/// Complexity: O(width × height) for phase 1 (two vectorisable row sweeps) plus O(foreground)
+/// for phase 2; no allocation beyond the workspace, which is given back on return.
+/// Guarantees: exact (integer arithmetic); deterministic; `dist2` ≤ ((min(w, h) + 1) / 2)².
+template <BinaryView Mask, MutableImageView Dist>
+  requires std::same_as<typename Dist::value_type, std::uint32_t>
+[[nodiscard]] status distance_transform_sq(const Mask& mask, const Dist& dist2,
+                                           workspace& ws) noexcept {
+  PERCH_TRY(detail::validate_distance_views(mask, dist2));
+  return detail::distance_transform_impl<detail::edt_output::squared>(mask, dist2, dist2, ws,
+                                                                      distance_options{});
+}
+
+/// Squared Euclidean distance transform plus, for every pixel, its nearest background pixel.
+///
+/// As the other overload, and writes to `nearest` the position of a nearest background pixel:
+/// the pixel itself on background; on foreground, possibly a pixel just outside the image
+/// (x = −1 or width, y = −1 or height) when the border is nearest. Ties are broken by a fixed
+/// rule: the smallest column, then the smallest row; so the output is deterministic and
+/// (nearest.x − x)² + (nearest.y − y)² == dist2 everywhere.
+/// Errors: as the other overload, plus view errors and `size_mismatch` of `nearest`.
+/// Complexity: as the other overload, plus one write per pixel of `nearest`.
+template <BinaryView Mask, MutableImageView Dist, MutableImageView Nearest>
+  requires std::same_as<typename Dist::value_type, std::uint32_t> &&
+           std::same_as<typename Nearest::value_type, pixel>
+[[nodiscard]] status distance_transform_sq(const Mask& mask, const Dist& dist2,
+                                           const Nearest& nearest, workspace& ws) noexcept {
+  PERCH_TRY(detail::validate_distance_views(mask, dist2));
+  PERCH_TRY(validate(nearest));
+  PERCH_TRY(same_size(mask, nearest));
+  return detail::distance_transform_impl<detail::edt_output::nearest>(mask, dist2, nearest, ws,
+                                                                      distance_options{});
+}
+
+/// Euclidean distance transform for anisotropic pixels, as real distances.
+///
+/// Writes to every pixel of `dist` the distance, in the unit of `options.spacing_x/y`, from the
+/// pixel's centre to the nearest background pixel centre, where pixel centres lie
+/// `spacing_x` apart along a row and `spacing_y` apart along a column (0 on background;
+/// outside the image counts as background). With unit spacing, `dist` = √`dist2` of
+/// `distance_transform_sq` up to float rounding.
+/// Method: Meijster et al. 2000 as above; phase 1 scales the column distances by `spacing_y`,
+/// phase 2 takes the envelope of spacing_x²·(x − i)² + g(i)² in double precision.
+/// Errors: as `distance_transform_sq`; `invalid_parameter` naming the field for a spacing that
+/// is not finite and positive; `image_too_large` for a mask taller than 2^24 rows (column run
+/// lengths are kept in the float output while phase 1 runs).
+/// Complexity: as `distance_transform_sq`.
+template <BinaryView Mask, MutableImageView Dist>
+  requires std::same_as<typename Dist::value_type, float>
+[[nodiscard]] status distance_transform(const Mask& mask, const Dist& dist, workspace& ws,
+                                        const distance_options& options = {}) noexcept {
+  PERCH_TRY(options.validate());
+  PERCH_TRY(detail::validate_distance_views(mask, dist));
+  if (mask.height() > (1 << 24)) return fail(errc::image_too_large, "distance_transform: height");
+  return detail::distance_transform_impl<detail::edt_output::real>(mask, dist, dist, ws, options);
+}
+
+}  // namespace perch

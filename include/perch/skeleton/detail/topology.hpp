@@ -1,0 +1,377 @@
+/// \file
+/// Private helpers of the skeleton stage: a padded working copy of the mask (one byte per pixel,
+/// background frame, bit 0 = foreground, bits 1–2 = queue flags), 3×3 neighbourhood codes,
+/// compile-time 256-entry lookup tables (simple pixels; Zhang–Suen and Guo–Hall deletion
+/// rules), the one-pixel clean-up, and the output copy.
+///
+/// Neighbourhood code: bit k is the k-th neighbour clockwise from north:
+///   bit 7 NW | bit 0 N | bit 1 NE
+///   bit 6 W  |    p    | bit 2 E
+///   bit 5 SW | bit 4 S | bit 3 SE
+#pragma once
+
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <utility>
+
+#include "perch/core/geometry.hpp"
+#include "perch/core/image_view.hpp"
+#include "perch/core/result.hpp"
+#include "perch/core/workspace.hpp"
+
+namespace perch::detail {
+
+using neighbourhood_table = std::array<bool, 256>;
+
+/// (dx, dy) of code bit k.
+inline constexpr int code_dx[8] = {0, 1, 1, 1, 0, -1, -1, -1};
+inline constexpr int code_dy[8] = {-1, -1, 0, 1, 1, 1, 0, -1};
+
+[[nodiscard]] constexpr bool bit(unsigned code, int k) noexcept { return ((code >> k) & 1u) != 0; }
+
+/// Rosenfeld's simple pixel: deleting p keeps the 8-components of the foreground and the
+/// 4-components of the background. Locally: the foreground of N8(p) forms exactly one
+/// 8-component, and the background of N8(p) has exactly one 4-component that is 4-adjacent to
+/// p. Built by counting components in the 3×3 window (not from a formula), so the table is
+/// checkable against the Yokoi connectivity number in the tests.
+[[nodiscard]] constexpr neighbourhood_table make_simple_table() noexcept {
+  neighbourhood_table table{};
+  for (unsigned code = 0; code < 256; ++code) {
+    auto count = [code](bool foreground) {
+      int label[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
+      int components = 0;
+      int touching_p = 0;
+      for (int start = 0; start < 8; ++start) {
+        if (bit(code, start) != foreground || label[start] >= 0) continue;
+        int stack[8] = {};
+        int top = 0;
+        stack[top++] = start;
+        label[start] = components;
+        bool four_adjacent_to_p = false;
+        while (top > 0) {
+          const int k = stack[--top];
+          if (code_dx[k] == 0 || code_dy[k] == 0) four_adjacent_to_p = true;
+          for (int j = 0; j < 8; ++j) {
+            if (bit(code, j) != foreground || label[j] >= 0) continue;
+            const int ax = code_dx[j] - code_dx[k];
+            const int ay = code_dy[j] - code_dy[k];
+            const int dist = (ax < 0 ? -ax : ax) + (ay < 0 ? -ay : ay);
+            const bool adjacent = foreground ? (ax >= -1 && ax <= 1 && ay >= -1 && ay <= 1)
+                                             : dist == 1;
+            if (!adjacent) continue;
+            label[j] = components;
+            stack[top++] = j;
+          }
+        }
+        ++components;
+        if (four_adjacent_to_p) ++touching_p;
+      }
+      return foreground ? components : touching_p;
+    };
+    table[code] = count(true) == 1 && count(false) == 1;
+  }
+  return table;
+}
+
+inline constexpr neighbourhood_table simple_table = make_simple_table();
+
+/// Simple and not an end pixel (at least two foreground neighbours): what the medial axis and
+/// the clean-up may delete. One table lookup (no popcount instruction needed).
+[[nodiscard]] constexpr neighbourhood_table make_deletable_table() noexcept {
+  neighbourhood_table table{};
+  for (unsigned code = 0; code < 256; ++code)
+    table[code] = simple_table[code] && std::popcount(code) >= 2;
+  return table;
+}
+inline constexpr neighbourhood_table deletable_table = make_deletable_table();
+
+/// Zhang & Suen 1984, with their names P2 = N, P3 = NE, …, P9 = NW (bits 0…7):
+/// delete in sub-iteration 1 iff (a) 2 ≤ B ≤ 6, (b) A = 1, (c) P2·P4·P6 = 0, (d) P4·P6·P8 = 0;
+/// in sub-iteration 2 with (c') P2·P4·P8 = 0 and (d') P2·P6·P8 = 0. B = number of foreground
+/// neighbours; A = number of 01 patterns in the ordered sequence P2, P3, …, P9, P2.
+[[nodiscard]] constexpr neighbourhood_table make_zhang_suen_table(int sub_iteration) noexcept {
+  neighbourhood_table table{};
+  for (unsigned code = 0; code < 256; ++code) {
+    const int b = std::popcount(code);
+    int a = 0;
+    for (int k = 0; k < 8; ++k) a += !bit(code, k) && bit(code, (k + 1) % 8) ? 1 : 0;
+    const bool p2 = bit(code, 0), p4 = bit(code, 2), p6 = bit(code, 4), p8 = bit(code, 6);
+    const bool cd = sub_iteration == 0 ? !(p2 && p4 && p6) && !(p4 && p6 && p8)
+                                       : !(p2 && p4 && p8) && !(p2 && p6 && p8);
+    table[code] = b >= 2 && b <= 6 && a == 1 && cd;
+  }
+  return table;
+}
+
+/// Guo & Hall 1989, algorithm A1, with their names x1 = E, x2 = NE, x3 = N, x4 = NW, x5 = W,
+/// x6 = SW, x7 = S, x8 = SE (counter-clockwise from east): delete iff (a) C(p) = 1,
+/// (b) 2 ≤ N(p) ≤ 3, (c) (x2 ∨ x3 ∨ ¬x8) ∧ x1 = 0 in odd sub-iterations and
+/// (x6 ∨ x7 ∨ ¬x4) ∧ x5 = 0 in even ones, where
+/// C(p) = ¬x1∧(x2∨x3) + ¬x3∧(x4∨x5) + ¬x5∧(x6∨x7) + ¬x7∧(x8∨x1),
+/// N(p) = min(N1, N2), N1 = (x1∨x2)+(x3∨x4)+(x5∨x6)+(x7∨x8), N2 = (x2∨x3)+(x4∨x5)+(x6∨x7)+(x8∨x1).
+[[nodiscard]] constexpr neighbourhood_table make_guo_hall_table(int sub_iteration) noexcept {
+  neighbourhood_table table{};
+  for (unsigned code = 0; code < 256; ++code) {
+    const bool x1 = bit(code, 2), x2 = bit(code, 1), x3 = bit(code, 0), x4 = bit(code, 7);
+    const bool x5 = bit(code, 6), x6 = bit(code, 5), x7 = bit(code, 4), x8 = bit(code, 3);
+    const int c = (!x1 && (x2 || x3)) + (!x3 && (x4 || x5)) + (!x5 && (x6 || x7)) +
+                  (!x7 && (x8 || x1));
+    const int n1 = (x1 || x2) + (x3 || x4) + (x5 || x6) + (x7 || x8);
+    const int n2 = (x2 || x3) + (x4 || x5) + (x6 || x7) + (x8 || x1);
+    const int n = n1 < n2 ? n1 : n2;
+    const bool m = sub_iteration == 0 ? ((x2 || x3 || !x8) && x1) : ((x6 || x7 || !x4) && x5);
+    table[code] = c == 1 && n >= 2 && n <= 3 && !m;
+  }
+  return table;
+}
+
+/// The working copy: (width + 2) × (height + 2) bytes, background frame, pixel (x, y) at
+/// index (y + 1)·stride + x + 1.
+struct padded_image {
+  std::uint8_t* px = nullptr;
+  int width = 0;
+  int height = 0;
+  std::ptrdiff_t stride = 0;
+  std::ptrdiff_t offset[8] = {};  ///< index offsets of code bits 0…7
+  double inv_stride = 0;
+
+  [[nodiscard]] std::ptrdiff_t index(int x, int y) const noexcept {
+    return (static_cast<std::ptrdiff_t>(y) + 1) * stride + x + 1;
+  }
+  /// (x, y) of index `i`.
+  [[nodiscard]] pixel position(std::ptrdiff_t i) const noexcept {
+    auto row = static_cast<std::ptrdiff_t>(static_cast<double>(i) * inv_stride);
+    if (row * stride > i) --row;
+    if ((row + 1) * stride <= i) ++row;
+    return {static_cast<std::int32_t>(i - row * stride - 1), static_cast<std::int32_t>(row - 1)};
+  }
+  [[nodiscard]] unsigned code(std::ptrdiff_t i) const noexcept {
+    const std::uint8_t* p = px + i;
+    const std::ptrdiff_t s = stride;
+    return (p[-s] & 1u) | (p[-s + 1] & 1u) << 1 | (p[1] & 1u) << 2 | (p[s + 1] & 1u) << 3 |
+           (p[s] & 1u) << 4 | (p[s - 1] & 1u) << 5 | (p[-1] & 1u) << 6 | (p[-s - 1] & 1u) << 7;
+  }
+  /// True when a 4-neighbour of `i` is background.
+  [[nodiscard]] bool on_border(std::ptrdiff_t i) const noexcept {
+    return ((px[i - stride] & px[i + stride] & px[i - 1] & px[i + 1]) & 1u) == 0;
+  }
+};
+
+[[nodiscard]] constexpr std::size_t padded_pixels(int width, int height) noexcept {
+  return (static_cast<std::size_t>(width) + 2) * (static_cast<std::size_t>(height) + 2);
+}
+
+/// Copies `mask` (non-zero = 1) into a padded image taken from `ws`.
+[[nodiscard]] inline result<padded_image> load_padded(image_view<const std::uint8_t> mask,
+                                                      workspace& ws) noexcept {
+  padded_image img;
+  img.width = mask.width();
+  img.height = mask.height();
+  img.stride = img.width + 2;
+  img.inv_stride = 1.0 / static_cast<double>(img.stride);
+  for (int k = 0; k < 8; ++k) img.offset[k] = code_dy[k] * img.stride + code_dx[k];
+  auto memory = ws.allocate<std::uint8_t>(padded_pixels(img.width, img.height));
+  if (!memory) return unexpected{memory.error()};
+  img.px = memory->data();
+  std::memset(img.px, 0, static_cast<std::size_t>(img.stride));
+  std::memset(img.px + (static_cast<std::ptrdiff_t>(img.height) + 1) * img.stride, 0,
+              static_cast<std::size_t>(img.stride));
+  for (int y = 0; y < img.height; ++y) {
+    const std::uint8_t* m = mask.data() + static_cast<std::ptrdiff_t>(y) * mask.stride();
+    std::uint8_t* d = img.px + img.index(0, y);
+    d[-1] = 0;
+    d[img.width] = 0;
+    for (int x = 0; x < img.width; ++x) d[x] = m[x] != 0 ? 1 : 0;
+  }
+  return img;
+}
+
+/// Writes bit 0 of the working image to `out` (1 skeleton, 0 not), every pixel.
+inline void store_skeleton(const padded_image& img, image_view<std::uint8_t> out) noexcept {
+  for (int y = 0; y < img.height; ++y) {
+    const std::uint8_t* s = img.px + img.index(0, y);
+    std::uint8_t* d = out.data() + static_cast<std::ptrdiff_t>(y) * out.stride();
+    for (int x = 0; x < img.width; ++x) d[x] = s[x] & 1u;
+  }
+}
+
+/// Calls `visit(i)` for every foreground pixel of the working image, in raster order, skipping
+/// eight background bytes at a time.
+template <class Visit>
+inline void for_each_foreground(const padded_image& img, Visit&& visit) noexcept {
+  for (int y = 0; y < img.height; ++y) {
+    const std::ptrdiff_t row = img.index(0, y);
+    const std::uint8_t* p = img.px + row;
+    int x = 0;
+    while (x < img.width) {
+      if (x + 8 <= img.width) {
+        std::uint64_t word = 0;
+        std::memcpy(&word, p + x, 8);
+        if ((word & 0x0101010101010101ull) == 0) {
+          x += 8;
+          continue;
+        }
+      }
+      if ((p[x] & 1u) != 0) visit(row + x);
+      ++x;
+    }
+  }
+}
+
+/// Deletes simple non-end pixels among the neighbours of the pixels in `seeds` (and of what it
+/// deletes), until none is left: the local redundancy sweep after a clean-up change. The seeds
+/// are flagged (bit 1) and distinct; `queue` has room for every pixel.
+inline void sweep_redundant(const padded_image& img, std::uint32_t* queue, std::size_t count) noexcept {
+  std::size_t head = 0;
+  std::size_t tail = count;
+  while (head != tail) {
+    const std::uint32_t i = queue[head++];
+    img.px[i] &= static_cast<std::uint8_t>(~2u);
+    if ((img.px[i] & 1u) == 0) continue;
+    const unsigned c = img.code(i);
+    if (!deletable_table[c]) continue;
+    img.px[i] = 0;
+    for (int k = 0; k < 8; ++k) {
+      const auto q = static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(i) + img.offset[k]);
+      if ((img.px[q] & 3u) == 1u) {
+        img.px[q] |= 2u;
+        queue[tail++] = q;
+      }
+    }
+  }
+}
+
+/// The one-pixel clean-up: removes every 2×2 block of skeleton pixels it can without changing
+/// the topology. In each block it deletes the simple pixel of smallest dist2 (ties: raster
+/// order); when no block pixel is simple (four branches meeting diagonally), it re-routes one
+/// branch: adds a neighbour q of a block pixel p, outside the block and inside the mask, whose
+/// addition is simple and creates no block, then deletes p if it is simple now. Both steps are simple-pixel
+/// changes, so components and holes are kept; each step removes at least one block and adds
+/// none, so it terminates. Pixels next to every change are then swept for redundancy (simple
+/// non-end pixels are deleted), so the result is again irreducible.
+/// Returns the number of blocks left: 0 unless every pixel of a block carries a branch of its
+/// own and the mask leaves no room to re-route one (then no thin subset of the mask with the
+/// same topology keeps all the branches, short of deleting a branch from its end pixel). `queue` must have room for every pixel.
+inline std::size_t remove_blocks(const padded_image& img, image_view<const std::uint8_t> mask,
+                                 image_view<const std::uint32_t> dist2,
+                                 std::uint32_t* queue) noexcept {
+  const std::ptrdiff_t s = img.stride;
+  auto d2 = [&](std::ptrdiff_t i) {
+    const pixel p = img.position(i);
+    return dist2(p.x, p.y);
+  };
+  auto is_block = [&](std::ptrdiff_t i) {
+    return ((img.px[i] & img.px[i + 1] & img.px[i + s] & img.px[i + s + 1]) & 1u) != 0;
+  };
+  auto in_mask = [&](std::ptrdiff_t i) {
+    const pixel p = img.position(i);
+    return p.x >= 0 && p.y >= 0 && p.x < img.width && p.y < img.height && mask(p.x, p.y) != 0;
+  };
+  auto makes_block = [&](std::ptrdiff_t q) {
+    return is_block(q) || is_block(q - 1) || is_block(q - s) || is_block(q - s - 1);
+  };
+  std::size_t rerouted = 0;
+  auto seed = [&](std::ptrdiff_t i) {
+    if ((img.px[i] & 3u) != 1u) return;
+    img.px[i] |= 2u;
+    queue[rerouted++] = static_cast<std::uint32_t>(i);
+  };
+  std::size_t left = 0;
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    left = 0;
+    for (int y = 0; y + 1 < img.height; ++y) {
+      const std::ptrdiff_t row = img.index(0, y);
+      const std::uint8_t* r0 = img.px + row;
+      const std::uint8_t* r1 = r0 + s;
+      int x = 0;
+      while (x + 1 < img.width) {
+        if (x + 9 <= img.width) {
+          std::uint64_t a = 0, b = 0, c = 0, d = 0;
+          std::memcpy(&a, r0 + x, 8);
+          std::memcpy(&b, r0 + x + 1, 8);
+          std::memcpy(&c, r1 + x, 8);
+          std::memcpy(&d, r1 + x + 1, 8);
+          if ((a & b & c & d & 0x0101010101010101ull) == 0) {
+            x += 8;
+            continue;
+          }
+        }
+        const std::ptrdiff_t i = row + x;
+        ++x;
+        if (!is_block(i)) continue;
+        std::ptrdiff_t block[4] = {i, i + 1, i + s, i + s + 1};
+        // Order by dist2, then raster (insertion sort of four).
+        std::uint32_t key[4] = {d2(block[0]), d2(block[1]), d2(block[2]), d2(block[3])};
+        for (int k = 1; k < 4; ++k)
+          for (int j = k; j > 0 && key[j] < key[j - 1]; --j) {
+            std::swap(key[j], key[j - 1]);
+            std::swap(block[j], block[j - 1]);
+          }
+        bool done = false;
+        for (const std::ptrdiff_t p : block) {
+          const unsigned c = img.code(p);
+          if (deletable_table[c]) {
+            img.px[p] = 0;
+            for (int j = 0; j < 8; ++j)
+              seed(p + img.offset[j]);
+            done = true;
+            break;
+          }
+        }
+        for (int k = 0; k < 4 && !done; ++k) {
+          const std::ptrdiff_t p = block[k];
+          // The 8-neighbours of p outside the block: its two 4-neighbours first.
+          const int sx = (p == i || p == i + s) ? -1 : 1;
+          const int sy = (p == i || p == i + 1) ? -1 : 1;
+          const std::ptrdiff_t outside[5] = {p + sy * s, p + sx, p + sy * s + sx, p + sy * s - sx,
+                                             p + sx - sy * s};
+          for (const std::ptrdiff_t q : outside) {
+            if ((img.px[q] & 1u) != 0 || !in_mask(q)) continue;
+            img.px[q] = 1;
+            const unsigned cp = img.code(p);
+            if (simple_table[img.code(q)] && !makes_block(q) && deletable_table[cp]) {
+              img.px[p] = 0;
+              seed(q);
+              for (int j = 0; j < 8; ++j) {
+                seed(q + img.offset[j]);
+                seed(p + img.offset[j]);
+              }
+              done = true;
+              break;
+            }
+            img.px[q] = 0;
+          }
+        }
+        if (done) {
+          changed = true;
+          if (rerouted > 0) {
+            sweep_redundant(img, queue, rerouted);
+            rerouted = 0;
+          }
+        } else {
+          ++left;
+        }
+      }
+    }
+  }
+  return left;
+}
+
+/// Views checked the same way by every skeletoniser.
+[[nodiscard]] inline status validate_skeleton_views(image_view<const std::uint8_t> mask,
+                                                    image_view<const std::uint32_t> dist2,
+                                                    image_view<std::uint8_t> skeleton) noexcept {
+  PERCH_TRY(validate_non_empty(mask));
+  PERCH_TRY(validate(dist2));
+  PERCH_TRY(validate(skeleton));
+  PERCH_TRY(same_size(mask, dist2));
+  PERCH_TRY(same_size(mask, skeleton));
+  return {};
+}
+
+}  // namespace perch::detail

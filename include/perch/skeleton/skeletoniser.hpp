@@ -1,0 +1,49 @@
+/// \file
+/// The `Skeletoniser` concept every skeleton method models, so the pipeline takes any of them,
+/// and the option every method shares: how thin the output must be.
+#pragma once
+
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "perch/core/image_view.hpp"
+#include "perch/core/result.hpp"
+#include "perch/core/workspace.hpp"
+
+namespace perch {
+
+/// How thin a skeleton must be.
+enum class thinness : std::uint8_t {
+  /// One pixel thin: after the method, a topology-preserving clean-up removes every 2×2 block
+  /// of skeleton pixels (deleting simple pixels, or re-routing a branch inside the mask where
+  /// four branches meet diagonally); components and holes stay as the method left them.
+  one_pixel,
+  /// Exactly the method's own output as its paper defines it (Zhang–Suen and Guo–Hall leave
+  /// 2×2 blocks on most tree masks): for comparing with the papers and other libraries.
+  faithful,
+};
+
+/// A skeletonisation method: called as
+/// `s(mask, dist2, skeleton, ws)` → `status`, noexcept, where `mask` is the tree (non-zero =
+/// tree), `dist2` its squared distance map (from `distance_transform_sq`), and `skeleton` the
+/// output (written everywhere: 1 skeleton, 0 not); `S::name` names the method in diagnostics;
+/// `S::workspace_bytes(width, height)` is the workspace the call takes at most (given back on
+/// return).
+template <class S>
+concept Skeletoniser = requires(const S& s, image_view<const std::uint8_t> mask,
+                                image_view<const std::uint32_t> dist2,
+                                image_view<std::uint8_t> skeleton, workspace& ws, int extent) {
+  { s(mask, dist2, skeleton, ws) } noexcept -> std::same_as<status>;
+  { S::name } -> std::convertible_to<std::string_view>;
+  { S::workspace_bytes(extent, extent) } noexcept -> std::same_as<std::size_t>;
+};
+
+/// Bytes of workspace skeletoniser `S` takes at most on a `width` × `height` mask.
+template <Skeletoniser S>
+[[nodiscard]] constexpr std::size_t skeleton_workspace_bytes(int width, int height) noexcept {
+  return S::workspace_bytes(width, height);
+}
+
+}  // namespace perch

@@ -1,0 +1,171 @@
+/// \file
+/// Classic two-sub-iteration parallel thinning: Zhang–Suen (1984) and Guo–Hall (1989), exactly
+/// as their papers define them, computed by processing only the pixels that can still change.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string_view>
+
+#include "perch/core/image_view.hpp"
+#include "perch/core/result.hpp"
+#include "perch/core/workspace.hpp"
+#include "perch/skeleton/detail/topology.hpp"
+#include "perch/skeleton/skeletoniser.hpp"
+
+namespace perch {
+namespace detail {
+
+inline constexpr neighbourhood_table zhang_suen_tables[2] = {make_zhang_suen_table(0),
+                                                             make_zhang_suen_table(1)};
+inline constexpr neighbourhood_table guo_hall_tables[2] = {make_guo_hall_table(0),
+                                                           make_guo_hall_table(1)};
+
+/// Bytes the queue-driven thinning takes at most.
+[[nodiscard]] constexpr std::size_t thinning_workspace_bytes(int width, int height) noexcept {
+  if (width <= 0 || height <= 0) return 0;
+  const std::size_t n = padded_pixels(width, height);
+  return workspace::footprint<std::uint8_t>(n) + 3 * workspace::footprint<std::uint32_t>(n + 16);
+}
+
+/// Two-sub-iteration parallel thinning with deletion tables `tables[0]`, `tables[1]`.
+///
+/// Each sub-iteration decides every pixel on the image as it was when the sub-iteration began
+/// (parallel semantics), then deletes all the pixels it chose. Only pixels whose 3×3
+/// neighbourhood changed since they were last decided by the same sub-iteration are decided
+/// again (two candidate lists, one per sub-iteration, with a flag per pixel against
+/// duplicates); at the start, the pixels with a background 4-neighbour (no other pixel can meet
+/// either paper's conditions). The result equals the whole-image sweep of the paper. It stops
+/// when both lists are empty: a full iteration would delete nothing.
+inline status thin_two_subiterations(const neighbourhood_table* tables,
+                                     image_view<const std::uint8_t> mask,
+                                     image_view<const std::uint32_t> dist2,
+                                     image_view<std::uint8_t> skeleton, workspace& ws,
+                                     thinness thin) noexcept {
+  const auto entry = ws.mark();
+  auto loaded = load_padded(mask, ws);
+  if (!loaded) return unexpected{loaded.error()};
+  const padded_image img = *loaded;
+  const std::size_t n = padded_pixels(img.width, img.height) + 16;
+  auto a_memory = ws.allocate<std::uint32_t>(n);
+  auto b_memory = ws.allocate<std::uint32_t>(n);
+  auto d_memory = ws.allocate<std::uint32_t>(n);
+  if (!a_memory || !b_memory || !d_memory) {
+    ws.rewind(entry);
+    if (!a_memory) return unexpected{a_memory.error()};
+    if (!b_memory) return unexpected{b_memory.error()};
+    return unexpected{d_memory.error()};
+  }
+  std::uint32_t* list[2] = {a_memory->data(), b_memory->data()};
+  std::size_t size[2] = {0, 0};
+  std::uint32_t* deleted = d_memory->data();
+  std::uint8_t* px = img.px;
+  constexpr std::uint8_t flag[2] = {2u, 4u};
+
+  for_each_foreground(img, [&](std::ptrdiff_t i) {
+    if (!img.on_border(i)) return;
+    px[i] |= 6u;
+    list[0][size[0]++] = static_cast<std::uint32_t>(i);
+    list[1][size[1]++] = static_cast<std::uint32_t>(i);
+  });
+
+  int sub = 0;
+  while (size[0] + size[1] > 0) {
+    const neighbourhood_table& table = tables[sub];
+    std::size_t count = 0;
+    for (std::size_t k = 0; k < size[sub]; ++k) {
+      const std::uint32_t i = list[sub][k];
+      px[i] &= static_cast<std::uint8_t>(~flag[sub]);
+      if ((px[i] & 1u) != 0 && table[img.code(i)]) deleted[count++] = i;
+    }
+    size[sub] = 0;
+    for (std::size_t k = 0; k < count; ++k) px[deleted[k]] &= static_cast<std::uint8_t>(~1u);
+    for (std::size_t k = 0; k < count; ++k) {
+      for (int j = 0; j < 8; ++j) {
+        const auto q = static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(deleted[k]) + img.offset[j]);
+        const std::uint8_t v = px[q];
+        if ((v & 1u) == 0) continue;
+        if ((v & 2u) == 0) list[0][size[0]++] = q;
+        if ((v & 4u) == 0) list[1][size[1]++] = q;
+        px[q] = static_cast<std::uint8_t>(v | 6u);
+      }
+    }
+    sub ^= 1;
+  }
+
+  if (thin == thinness::one_pixel) (void)remove_blocks(img, mask, dist2, deleted);
+  store_skeleton(img, skeleton);
+  ws.rewind(entry);
+  return {};
+}
+
+}  // namespace detail
+
+/// Zhang–Suen thinning (models `Skeletoniser`).
+///
+/// T. Y. Zhang and C. Y. Suen, "A fast parallel algorithm for thinning digital patterns",
+/// Communications of the ACM 27(3), 1984. With P2 … P9 the neighbours clockwise from north,
+/// B the number of foreground neighbours and A the number of 01 patterns in P2, P3, …, P9, P2,
+/// sub-iteration 1 deletes (in parallel) every pixel with 2 ≤ B ≤ 6, A = 1, P2·P4·P6 = 0 and
+/// P4·P6·P8 = 0 (south-east boundary and north-west corner points); sub-iteration 2 uses
+/// P2·P4·P8 = 0 and P2·P6·P8 = 0; repeat until an iteration deletes nothing. Computed with
+/// 256-entry tables built at compile time, deciding only pixels whose neighbourhood changed.
+///
+/// Guarantees: skeleton ⊆ mask; deterministic; faithful mode equals the paper's whole-image
+/// sweep bit for bit, and is a fixed point (thinning it again changes nothing). Known
+/// properties of the method, kept in faithful mode: it erases 2×2 squares (a component can
+/// vanish) and leaves 2×2 blocks on diagonal strokes; the default `thinness::one_pixel` removes
+/// the blocks with the topology-preserving clean-up.
+/// Errors: view errors, `size_mismatch`, workspace errors (needs `workspace_bytes`).
+/// Complexity: O(width × height) for the copies plus O(pixels deleted × 8) for the thinning
+/// (work proportional to the shape, not iterations × image area).
+struct zhang_suen {
+  static constexpr std::string_view name = "zhang_suen";
+  perch::thinness thinness = perch::thinness::one_pixel;  ///< one_pixel (default) or faithful
+
+  [[nodiscard]] static constexpr std::size_t workspace_bytes(int width, int height) noexcept {
+    return detail::thinning_workspace_bytes(width, height);
+  }
+
+  [[nodiscard]] status operator()(image_view<const std::uint8_t> mask,
+                                  image_view<const std::uint32_t> dist2,
+                                  image_view<std::uint8_t> skeleton, workspace& ws) const noexcept {
+    PERCH_TRY(detail::validate_skeleton_views(mask, dist2, skeleton));
+    return detail::thin_two_subiterations(detail::zhang_suen_tables, mask, dist2, skeleton, ws,
+                                          thinness);
+  }
+};
+
+/// Guo–Hall thinning, algorithm A1 (models `Skeletoniser`).
+///
+/// Z. Guo and R. W. Hall, "Parallel thinning with two-subiteration algorithms", Communications
+/// of the ACM 32(3), 1989. With x1 … x8 the neighbours counter-clockwise from east, a pixel is
+/// deleted (in parallel) iff C(p) = 1, 2 ≤ N(p) ≤ 3, and (x2 ∨ x3 ∨ ¬x8) ∧ x1 = 0 in odd
+/// sub-iterations, (x6 ∨ x7 ∨ ¬x4) ∧ x5 = 0 in even ones, where
+/// C(p) = Σ ¬x(2k−1) ∧ (x(2k) ∨ x(2k+1)) (8-connectivity number) and
+/// N(p) = min(N1, N2) with N1 = Σ x(2k−1) ∨ x(2k), N2 = Σ x(2k) ∨ x(2k+1); repeat until an
+/// iteration deletes nothing. Same queue-driven computation as `zhang_suen`.
+///
+/// Guarantees: skeleton ⊆ mask; deterministic; faithful mode equals the paper's whole-image
+/// sweep bit for bit and is a fixed point; the method preserves connectivity (a 2×2 square
+/// keeps one pixel). OpenCV's `ximgproc::thinning(THINNING_GUOHALL)` runs the two
+/// sub-iterations in the other order, so its output differs by a few pixels.
+/// Errors, complexity: as `zhang_suen`.
+struct guo_hall {
+  static constexpr std::string_view name = "guo_hall";
+  perch::thinness thinness = perch::thinness::one_pixel;  ///< one_pixel (default) or faithful
+
+  [[nodiscard]] static constexpr std::size_t workspace_bytes(int width, int height) noexcept {
+    return detail::thinning_workspace_bytes(width, height);
+  }
+
+  [[nodiscard]] status operator()(image_view<const std::uint8_t> mask,
+                                  image_view<const std::uint32_t> dist2,
+                                  image_view<std::uint8_t> skeleton, workspace& ws) const noexcept {
+    PERCH_TRY(detail::validate_skeleton_views(mask, dist2, skeleton));
+    return detail::thin_two_subiterations(detail::guo_hall_tables, mask, dist2, skeleton, ws,
+                                          thinness);
+  }
+};
+
+}  // namespace perch

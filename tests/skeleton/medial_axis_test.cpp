@@ -1,0 +1,152 @@
+#include "perch/skeleton/medial_axis.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <vector>
+
+#include "perch/core/image.hpp"
+#include "perch/distance/distance_transform.hpp"
+#include "support/ascii_art.hpp"
+
+using perch::image;
+using perch::image_view;
+using perch::workspace;
+using perch::support::to_ascii;
+
+namespace {
+
+// A strip of width `width_px` at `angle_deg` through the image centre: pixels whose centre lies
+// within width/2 of the centre line, and within `half_length` along it.
+image<std::uint8_t> strip(int size, double angle_deg, double width_px, double half_length) {
+  image<std::uint8_t> m(size, size);
+  const double a = angle_deg * std::numbers::pi / 180.0;
+  const double ux = std::cos(a), uy = std::sin(a);
+  const double c = (size - 1) / 2.0;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const double dx = x - c, dy = y - c;
+      const double along = dx * ux + dy * uy;
+      const double across = -dx * uy + dy * ux;
+      if (std::abs(across) <= width_px / 2.0 && std::abs(along) <= half_length) m(x, y) = 1;
+    }
+  return m;
+}
+
+struct result_images {
+  image<std::uint32_t> d2;
+  image<std::uint8_t> skeleton;
+};
+
+result_images run(const image<std::uint8_t>& m) {
+  workspace ws;
+  result_images r{image<std::uint32_t>(m.width(), m.height()), image<std::uint8_t>(m.width(), m.height())};
+  REQUIRE(perch::distance_transform_sq(m.view(), r.d2.view(), ws));
+  REQUIRE(perch::medial_axis{}(m.view(), r.d2.view(), r.skeleton.view(), ws));
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("medial_axis: diameter 2d-1 on the axis of a strip follows its width at every angle") {
+  int checked = 0;
+  for (const double width : {5.0, 7.0, 9.0, 12.0, 16.0}) {
+    for (int angle = 0; angle <= 90; angle += 5) {
+      const auto m = strip(101, angle, width, 38.0);
+      const auto r = run(m);
+      const double c = 50.0;
+      const double a = angle * std::numbers::pi / 180.0;
+      int pixels = 0;
+      int off = 0;
+      double worst = 0, sum = 0;
+      for (int y = 0; y < 101; ++y)
+        for (int x = 0; x < 101; ++x) {
+          if (!r.skeleton(x, y)) continue;
+          const double along = (x - c) * std::cos(a) + (y - c) * std::sin(a);
+          if (std::abs(along) > 38.0 - width) continue;  // away from the ends
+          const double diameter = 2.0 * std::sqrt(static_cast<double>(r.d2(x, y))) - 1.0;
+          ++pixels;
+          // 2d − 1 is exact for axis-aligned strips; at oblique angles the background pixel
+          // centres lie 0 … 1 px beyond the edge and the axis pixel up to ½ px off the centre
+          // line, so one pixel's diameter can be off by up to 2 px; the mean is within ±1.25.
+          if (std::abs(diameter - width) > 2.0 + 1e-9) ++off;
+          worst = std::max(worst, std::abs(diameter - width));
+          sum += diameter - width;
+        }
+      INFO("width " << width << " angle " << angle);
+      CHECK(pixels > 20);
+      CHECK(off == 0);
+      CHECK(worst <= 2.0);
+      CHECK(std::abs(sum / pixels) <= 1.25);
+      if (angle % 90 == 0 && static_cast<int>(width) % 2 == 1) CHECK(worst == 0.0);
+      ++checked;
+    }
+  }
+  CHECK(checked == 5 * 19);
+}
+
+TEST_CASE("medial_axis: on the ridge and reaching near the tips of thick strokes") {
+  for (int angle = 0; angle <= 90; angle += 15) {
+    const double width = 11.0;
+    const double half = 30.0;
+    const auto m = strip(91, angle, width, half);
+    const auto r = run(m);
+    const double c = 45.0;
+    const double a = angle * std::numbers::pi / 180.0;
+    double min_along = 1e9, max_along = -1e9;
+    for (int y = 0; y < 91; ++y)
+      for (int x = 0; x < 91; ++x) {
+        if (!r.skeleton(x, y)) continue;
+        const double along = (x - c) * std::cos(a) + (y - c) * std::sin(a);
+        const double across = -(x - c) * std::sin(a) + (y - c) * std::cos(a);
+        min_along = std::min(min_along, along);
+        max_along = std::max(max_along, along);
+        if (std::abs(along) < half - width) CHECK(std::abs(across) <= 1.0);  // on the ridge
+      }
+    INFO("angle " << angle << "\n" << to_ascii(r.skeleton.view()));
+    // The tips: within one radius (plus a pixel) of the stroke's ends.
+    CHECK(max_along >= half - (width / 2.0 + 1.5));
+    CHECK(min_along <= -half + (width / 2.0 + 1.5));
+  }
+}
+
+TEST_CASE("medial_axis: ridge pixels are local maxima of dist2 across the stroke within 1 px") {
+  const auto m = perch::support::mask_from_ascii(R"(
+    ....................
+    .##################.
+    .##################.
+    .##################.
+    .##################.
+    .##################.
+    .##################.
+    .##################.
+    ....................)");
+  const auto r = run(m);
+  for (int x = 4; x < 16; ++x) {
+    int rows = 0;
+    for (int y = 0; y < m.height(); ++y)
+      if (r.skeleton(x, y)) {
+        ++rows;
+        CHECK(y == 4);  // the middle row, where dist2 is largest
+      }
+    CHECK(rows == 1);
+  }
+}
+
+TEST_CASE("medial_axis: two thick diagonal strokes crossing give one thin connected cross") {
+  image<std::uint8_t> m(60, 60);
+  for (int y = 0; y < 60; ++y)
+    for (int x = 0; x < 60; ++x)
+      if (std::abs(x - y) <= 3 || std::abs(x + y - 59) <= 3) m(x, y) = 1;
+  const auto r = run(m);
+  int count = 0;
+  for (int y = 0; y + 1 < 60; ++y)
+    for (int x = 0; x + 1 < 60; ++x) {
+      count += r.skeleton(x, y);
+      CHECK_FALSE((r.skeleton(x, y) && r.skeleton(x + 1, y) && r.skeleton(x, y + 1) &&
+                   r.skeleton(x + 1, y + 1)));
+    }
+  CHECK(count > 100);
+}
