@@ -1,0 +1,127 @@
+// find_perch end to end (issue 8): every platform on the synthetic benchmark trees at 640×480,
+// 1920×1080 and 4000×3000, clean and noisy, one thread, the workspace made once outside the
+// loop. Counters: per-stage milliseconds (medians are taken by --benchmark_repetitions),
+// pixels/s, workspace bytes per pixel and heap allocations per iteration (must be 0).
+#include <benchmark/benchmark.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <cstdlib>
+#include <map>
+#include <new>
+#include <utility>
+
+#include "perch/pli.hpp"
+#include "support/synthetic_tree.hpp"
+
+namespace {
+
+std::atomic<long long> g_allocations{0};
+
+std::int64_t steady_ns() noexcept {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+using perch::support::tree_noise;
+
+/// The benchmark trees, generated once per size and noise.
+const perch::support::synthetic_tree& tree_for(int width, int height, tree_noise noise) {
+  static std::map<std::pair<int, int>, perch::support::synthetic_tree> clean, noisy;
+  auto& cache = noise == tree_noise::noisy ? noisy : clean;
+  auto it = cache.find({width, height});
+  if (it == cache.end())
+    it = cache.emplace(std::pair{width, height}, perch::support::benchmark_tree(width, height, noise)).first;
+  return it->second;
+}
+
+template <class Platform>
+void find_perch_on_tree(benchmark::State& state) {
+  const int width = static_cast<int>(state.range(0));
+  const int height = static_cast<int>(state.range(1));
+  const auto noise = state.range(2) != 0 ? tree_noise::noisy : tree_noise::clean;
+  const auto& tree = tree_for(width, height, noise);
+  const perch::fixed_scale scale{tree.mm_per_px};
+  perch::perch_options options;
+  options.clock = steady_ns;
+  perch::workspace ws;
+  auto warm = perch::find_perch(tree.mask.view(), Platform{}, scale, ws, options);
+  if (!warm) {
+    state.SkipWithError(std::string(warm.error().message()).c_str());
+    return;
+  }
+  perch::stage_timings sum{};
+  const long long allocations_before = g_allocations.load();
+  std::size_t sites = 0;
+  for (auto _ : state) {
+    auto found = perch::find_perch(tree.mask.view(), Platform{}, scale, ws, options);
+    benchmark::DoNotOptimize(found);
+    const perch::stage_timings& t = found->timing;
+    sum.prepare_ms += t.prepare_ms;
+    sum.distance_ms += t.distance_ms;
+    sum.skeleton_ms += t.skeleton_ms;
+    sum.graph_ms += t.graph_ms;
+    sum.prune_ms += t.prune_ms;
+    sum.windows_ms += t.windows_ms;
+    sum.ranking_ms += t.ranking_ms;
+    sites = found->sites.size();
+  }
+  const auto n = static_cast<double>(state.iterations());
+  auto avg = [&](float ms) { return benchmark::Counter(static_cast<double>(ms) / n); };
+  state.counters["prepare_ms"] = avg(sum.prepare_ms);
+  state.counters["distance_ms"] = avg(sum.distance_ms);
+  state.counters["skeleton_ms"] = avg(sum.skeleton_ms);
+  state.counters["graph_ms"] = avg(sum.graph_ms);
+  state.counters["prune_ms"] = avg(sum.prune_ms);
+  state.counters["windows_ms"] = avg(sum.windows_ms);
+  state.counters["ranking_ms"] = avg(sum.ranking_ms);
+  state.counters["allocs/iter"] =
+      benchmark::Counter(static_cast<double>(g_allocations.load() - allocations_before) / n);
+  state.counters["ws_bytes/px"] = benchmark::Counter(
+      static_cast<double>(ws.high_water()) / (static_cast<double>(width) * height));
+  state.counters["sites"] = benchmark::Counter(static_cast<double>(sites));
+  state.counters["pixels/s"] = benchmark::Counter(static_cast<double>(width) * height,
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+}
+
+// Arguments: width, height, noisy (0/1).
+#define PERCH_SIZES                                                                     \
+  ->Args({640, 480, 0})->Args({640, 480, 1})->Args({1920, 1080, 0})->Args({1920, 1080, 1}) \
+      ->Args({4000, 3000, 0})->Args({4000, 3000, 1})->Unit(benchmark::kMillisecond)
+
+BENCHMARK(find_perch_on_tree<perch::tendon_claw>) PERCH_SIZES;
+BENCHMARK(find_perch_on_tree<perch::tensile_tether>) PERCH_SIZES;
+BENCHMARK(find_perch_on_tree<perch::metamorphic_quadrotor>) PERCH_SIZES;
+BENCHMARK(find_perch_on_tree<perch::ornithopter>) PERCH_SIZES;
+BENCHMARK(find_perch_on_tree<perch::treecreeper>) PERCH_SIZES;
+
+/// The downscale option: the same 4000×3000 tree analysed at factors 1, 0.5 and 0.25.
+void find_perch_downscaled(benchmark::State& state) {
+  const auto& tree = tree_for(4000, 3000, tree_noise::clean);
+  perch::perch_options options;
+  options.downscale = static_cast<float>(state.range(0)) / 100.0f;
+  perch::workspace ws;
+  const perch::fixed_scale scale{tree.mm_per_px};
+  for (auto _ : state) {
+    auto found = perch::find_perch(tree.mask.view(), perch::tendon_claw{}, scale, ws, options);
+    benchmark::DoNotOptimize(found);
+  }
+  state.counters["pixels/s"] = benchmark::Counter(4000.0 * 3000.0,
+                                                  benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(find_perch_downscaled)->Arg(100)->Arg(50)->Arg(25)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+// Counts every heap allocation in the process (the benchmark loop itself allocates nothing).
+void* operator new(std::size_t size) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+BENCHMARK_MAIN();

@@ -1,0 +1,98 @@
+// Fuzz target: find_perch on arbitrary masks and parameters. The input bytes choose the size,
+// the platform, the scale and the options (including NaN, zero and negative values), then the
+// pixels. Any input must give a status or a result whose sites lie on the mask with finite
+// values; never a crash, UB, an assert or an endless loop.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "perch/core/image.hpp"
+#include "perch/pli.hpp"
+
+namespace {
+
+float pick_float(std::uint8_t b) {
+  switch (b % 8) {
+    case 0:
+      return std::numeric_limits<float>::quiet_NaN();
+    case 1:
+      return 0.0f;
+    case 2:
+      return -1.0f;
+    case 3:
+      return std::numeric_limits<float>::infinity();
+    default:
+      return 0.25f + static_cast<float>(b) / 16.0f;
+  }
+}
+
+void check(bool ok) {
+  if (!ok) __builtin_trap();
+}
+
+template <class Platform, class Scale>
+void run(const perch::image<std::uint8_t>& mask, const Platform& platform, const Scale& scale,
+         const perch::perch_options& options) {
+  static perch::workspace ws;
+  auto found = perch::find_perch(mask.view(), platform, scale, ws, options);
+  if (!found) {
+    check(!found.error().message().empty());
+    return;
+  }
+  check(found->sites.size() <= options.ranking.top_k);
+  for (const perch::perch_site& s : found->sites) {
+    const perch::window_measures& m = s.window;
+    check(mask.view().contains(m.centre.x, m.centre.y));
+    if (options.downscale == 1.0f) check(mask(m.centre.x, m.centre.y) != 0);
+    for (const float v : {s.penalty, m.slope_deg, m.claw_diameter_mm, m.curvature_max_per_mm,
+                          m.mm_per_px, m.diameter_min_mm, m.diameter_max_mm})
+      check(std::isfinite(v));
+    check(m.slope_deg >= 0.0f && m.slope_deg <= 90.0f);
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  if (size < 6) return 0;
+  const int w = 1 + data[0] % 80;
+  const int h = 1 + data[1] % 80;
+  const std::uint8_t choice = data[2];
+  perch::perch_options options;
+  options.downscale = (choice & 1) != 0 ? 0.5f : 1.0f;
+  options.stride_mm = (data[3] & 0x80) != 0 ? pick_float(data[3]) : 20.0f;
+  options.camera.roll_deg = (data[4] & 0x80) != 0 ? pick_float(data[4]) - 4.0f : 0.0f;
+  options.ranking.top_k = 1 + data[4] % 6;
+  const float scale_value = pick_float(data[5]);
+
+  perch::image<std::uint8_t> mask(w, h);
+  const std::size_t bits = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  const std::uint8_t* pixels = data + 6;
+  const std::size_t available = (size - 6) * 8;
+  for (std::size_t i = 0; i < bits && i < available; ++i)
+    mask.data()[i] = (pixels[i / 8] >> (i % 8)) & 1;
+
+  const int scale_kind = (choice >> 1) & 1;
+  switch ((choice >> 2) % 5) {
+    case 0:
+      scale_kind == 0 ? run(mask, perch::tendon_claw{}, perch::fixed_scale{scale_value}, options)
+                      : run(mask, perch::tendon_claw{}, perch::trunk_prior{scale_value * 40}, options);
+      break;
+    case 1:
+      run(mask, perch::tensile_tether{}, perch::fixed_scale{scale_value}, options);
+      break;
+    case 2:
+      run(mask, perch::metamorphic_quadrotor{}, perch::fixed_scale{scale_value}, options);
+      break;
+    case 3:
+      run(mask, perch::ornithopter{}, perch::trunk_prior{scale_value * 40}, options);
+      break;
+    default:
+      run(mask, perch::treecreeper{}, perch::fixed_scale{scale_value}, options);
+      break;
+  }
+  return 0;
+}
