@@ -153,16 +153,38 @@ struct branch_stretch {
 
 /// A branch's skeleton runs on into its parent up to the junction node, inside the parent's
 /// body, where it bends toward the node: a window there measures the parent, not the branch.
-/// Points closer to a junction node than that node's radius are left out (ends and loops
-/// keep all their points).
+/// Leading and trailing points that lie inside the junction node's disc or inside the
+/// inscribed disc of a point of another branch at that junction (|p − q| < r(q)) are left
+/// out: the window starts where the branch leaves its parent's surface, however oblique the
+/// fork (the parent's body reaches r_parent / sin θ along a limb leaving at θ). Ends and loops
+/// keep all their points.
 [[nodiscard]] inline branch_stretch outside_junctions(const skeleton_graph& graph,
                                                       const skeleton_branch& b) noexcept {
   auto inside = [&](node_id n, pixel p) {
     const skeleton_node node = graph.node(n);
     if (node.kind != node_kind::junction) return false;
-    const float dx = static_cast<float>(p.x - node.position.x);
-    const float dy = static_cast<float>(p.y - node.position.y);
-    return dx * dx + dy * dy < node.radius_px * node.radius_px;
+    auto distance2 = [](pixel a, pixel c) {
+      const float dx = static_cast<float>(a.x - c.x);
+      const float dy = static_cast<float>(a.y - c.y);
+      return dx * dx + dy * dy;
+    };
+    const float to_node2 = distance2(p, node.position);
+    if (to_node2 < node.radius_px * node.radius_px) return true;
+    // Points of the other branches within reach of p, walked from the junction outward.
+    const float reach = std::sqrt(to_node2) + 2.0f * node.radius_px + 1.0f;
+    bool covered = false;
+    for (const incidence in : graph.topology().incidences(n)) {
+      if (in.edge == b.id || covered) continue;
+      const skeleton_branch other = graph.branch(in.edge);
+      const std::size_t count = other.points.size();
+      for (std::size_t k = 0; k < count && !covered; ++k) {
+        const std::size_t i = in.direction == traversal::forward ? k : count - 1 - k;
+        const pixel q = other.points[i];
+        if (distance2(q, node.position) > reach * reach) break;
+        covered = distance2(p, q) < other.radius_px[i] * other.radius_px[i];
+      }
+    }
+    return covered;
   };
   std::size_t first = 0;
   std::size_t last = b.points.size();
