@@ -86,7 +86,8 @@ enum class perch_outcome : std::uint8_t {
 /// Everything `find_perch` found. Spans and the graph live in the workspace: valid until the
 /// workspace's next `reset()` (the next `find_perch` call on it).
 ///
-/// Coordinates: `sites[i].window.centre` is in input-image pixels. The graph, skeleton and
+/// Coordinates: `sites[i].window.centre` and `near_misses[i].window.centre` are in input-image
+/// pixels; `window.first/last/middle` index the branch's polyline (`graph.branch(id).points`). The graph, skeleton and
 /// distance map are in the analysed frame: local coordinates + `mask.offset`, and
 /// `mask.to_input()` maps the analysed frame to input pixels (identity without downscale).
 /// Lengths in px inside `window_measures` are analysed-frame pixels; everything in mm is metric.
@@ -151,46 +152,155 @@ struct branch_stretch {
   std::size_t count = 0;
 };
 
+/// Room (px) a claw needs between the branch and another limb's surface: the distance-map
+/// radius already reaches half a pixel beyond the true surface, so 1.5 px more gives the 2 px
+/// gap within which two limbs touch.
+inline constexpr float junction_gap_px = 1.5f;
+
+/// Another branch at a junction, as the trimming of `outside_junctions` sees it: a straight limb
+/// of radius `radius_px` that leaves along `direction` from `base` (the point where its axis,
+/// extended back through the junction, meets the trimmed branch's centreline).
+struct junction_limb {
+  point2f base{0, 0};
+  point2f direction{0, 0};
+  float radius_px = 0;
+  bool valid = false;
+};
+
+/// The limb of branch `other` (walked from node `n` by `in`) as seen from branch `own`, whose
+/// points are walked from `n` by `own_points` (index 0 next to the node).
+/// Its axis is the chord of `other`'s points between r(n) and r(n) + max(3·r(n), 8 px) from the
+/// node (beyond the node's cluster, where the medial axis bends toward it); its base is the
+/// first of `own`'s points (within `reach_px` of the node) that lies on that axis (within 1 px)
+/// or where the axis crosses `own`'s centreline; when there is none (a limb continuing this one
+/// at a slight offset), the point next to the node.
+template <class OwnAt>
+[[nodiscard]] inline junction_limb limb_at_junction(const skeleton_branch& other, traversal dir,
+                                                    const skeleton_node& node, OwnAt&& own_at,
+                                                    std::size_t own_count,
+                                                    float reach_px) noexcept {
+  junction_limb out;
+  const std::size_t count = other.points.size();
+  const point2f centre = to_point(node.position);
+  const float near = node.radius_px;
+  const float far = node.radius_px + std::max(3.0f * node.radius_px, 8.0f);
+  std::size_t first = count, last = count;
+  float radius_sum = 0;
+  std::size_t radius_n = 0;
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t i = dir == traversal::forward ? k : count - 1 - k;
+    const float d = (to_point(other.points[i]) - centre).norm();
+    if (d > far) break;
+    if (d < near) continue;
+    if (first == count) first = i;
+    last = i;
+    radius_sum += other.radius_px[i];
+    ++radius_n;
+  }
+  if (radius_n < 2) return out;
+  const point2f a = to_point(other.points[first]);
+  const point2f chord = to_point(other.points[last]) - a;
+  const float length = chord.norm();
+  if (!(length > 0)) return out;
+  const point2f u = chord / length;
+  auto signed_distance = [&](point2f p) {
+    const point2f v = p - a;
+    return u.x() * v.y() - u.y() * v.x();
+  };
+  // The base: where own's centreline meets or crosses the axis, else next to the node.
+  std::size_t best = 0;
+  float previous = 0;
+  for (std::size_t k = 0; k < own_count; ++k) {
+    const point2f p = to_point(own_at(k));
+    if ((p - centre).norm() > reach_px) break;
+    const float d = signed_distance(p);
+    if (std::abs(d) <= 1.0f) {  // on the axis: a limb continuing this one, or its base
+      best = k;
+      break;
+    }
+    if (k > 0 && ((previous < 0) != (d < 0))) {
+      best = std::abs(previous) < std::abs(d) ? k - 1 : k;
+      break;
+    }
+    previous = d;
+  }
+  if (own_count == 0) return out;
+  const point2f p = to_point(own_at(best));
+  out.base = a + u * u.dot(p - a);
+  out.direction = u;
+  out.radius_px = radius_sum / static_cast<float>(radius_n);
+  out.valid = true;
+  return out;
+}
+
 /// A branch's skeleton runs on into its parent up to the junction node, inside the parent's
 /// body, where it bends toward the node: a window there measures the parent, not the branch.
-/// Leading and trailing points that lie inside the junction node's disc or inside the
-/// inscribed disc of a point of another branch at that junction (|p − q| < r(q)) are left
-/// out: the window starts where the branch leaves its parent's surface, however oblique the
-/// fork (the parent's body reaches r_parent / sin θ along a limb leaving at θ). Ends and loops
-/// keep all their points.
+/// And the medial axis of a narrow fork splits only where the two limbs' surfaces part, well
+/// beyond where the thinner limb leaves the other (until then it runs hidden inside it).
+/// Leading and trailing points are left out while they lie inside the junction node's disc,
+/// inside the inscribed disc of a point of another branch at that junction (|p − q| < r(q)), or
+/// within that branch's radius + `junction_gap_px` of its limb extended straight back through
+/// the junction to where its axis meets this branch (`limb_at_junction`: a limb is modelled as
+/// starting on its parent's axis, so the part of it hidden inside the parent counts too). The
+/// window then starts where the branch is clear of every limb at the junction, however oblique
+/// the fork. Ends and loops keep all their points.
+/// Complexity: O(points of the branches at the junction within a few node radii).
 [[nodiscard]] inline branch_stretch outside_junctions(const skeleton_graph& graph,
                                                       const skeleton_branch& b) noexcept {
-  auto inside = [&](node_id n, pixel p) {
-    const skeleton_node node = graph.node(n);
-    if (node.kind != node_kind::junction) return false;
-    auto distance2 = [](pixel a, pixel c) {
-      const float dx = static_cast<float>(a.x - c.x);
-      const float dy = static_cast<float>(a.y - c.y);
-      return dx * dx + dy * dy;
-    };
-    const float to_node2 = distance2(p, node.position);
-    if (to_node2 < node.radius_px * node.radius_px) return true;
-    // Points of the other branches within reach of p, walked from the junction outward.
-    const float reach = std::sqrt(to_node2) + 2.0f * node.radius_px + 1.0f;
-    bool covered = false;
-    for (const incidence in : graph.topology().incidences(n)) {
-      if (in.edge == b.id || covered) continue;
-      const skeleton_branch other = graph.branch(in.edge);
-      const std::size_t count = other.points.size();
-      for (std::size_t k = 0; k < count && !covered; ++k) {
-        const std::size_t i = in.direction == traversal::forward ? k : count - 1 - k;
-        const pixel q = other.points[i];
-        if (distance2(q, node.position) > reach * reach) break;
-        covered = distance2(p, q) < other.radius_px[i] * other.radius_px[i];
-      }
-    }
-    return covered;
+  auto distance2 = [](pixel a, pixel c) {
+    const float dx = static_cast<float>(a.x - c.x);
+    const float dy = static_cast<float>(a.y - c.y);
+    return dx * dx + dy * dy;
   };
-  std::size_t first = 0;
-  std::size_t last = b.points.size();
-  while (first < last && inside(b.from, b.points[first])) ++first;
-  while (last > first && inside(b.to, b.points[last - 1])) --last;
-  return {first, last - first};
+  const std::size_t n = b.points.size();
+  // Trims from one end: `at(k)` is the k-th point walked from node `id`; returns points trimmed.
+  auto trim = [&](node_id id, auto&& at, std::size_t limit) -> std::size_t {
+    const skeleton_node node = graph.node(id);
+    if (node.kind != node_kind::junction) return 0;
+    constexpr std::size_t max_limbs = 8;
+    junction_limb limbs[max_limbs];
+    std::size_t limb_count = 0;
+    const float reach = 2.5f * node.radius_px + 4.0f;
+    for (const incidence in : graph.topology().incidences(id)) {
+      if (in.edge == b.id || limb_count == max_limbs) continue;
+      limbs[limb_count++] = limb_at_junction(graph.branch(in.edge), in.direction, node, at, limit,
+                                             reach);
+    }
+    auto inside = [&](pixel p) {
+      const float to_node2 = distance2(p, node.position);
+      if (to_node2 < node.radius_px * node.radius_px) return true;
+      const point2f q = to_point(p);
+      for (std::size_t l = 0; l < limb_count; ++l) {
+        const junction_limb& L = limbs[l];
+        if (!L.valid) continue;
+        const float t = std::max(0.0f, L.direction.dot(q - L.base));
+        const float r = L.radius_px + junction_gap_px;
+        if ((q - (L.base + t * L.direction)).squaredNorm() < r * r) return true;
+      }
+      // Points of the other branches within reach of p, walked from the junction outward.
+      const float near = std::sqrt(to_node2) + 2.0f * node.radius_px + 1.0f;
+      for (const incidence in : graph.topology().incidences(id)) {
+        if (in.edge == b.id) continue;
+        const skeleton_branch other = graph.branch(in.edge);
+        const std::size_t count = other.points.size();
+        for (std::size_t k = 0; k < count; ++k) {
+          const std::size_t i = in.direction == traversal::forward ? k : count - 1 - k;
+          const pixel o = other.points[i];
+          if (distance2(o, node.position) > near * near) break;
+          if (distance2(p, o) < other.radius_px[i] * other.radius_px[i]) return true;
+        }
+      }
+      return false;
+    };
+    std::size_t k = 0;
+    while (k < limit && inside(at(k))) ++k;
+    return k;
+  };
+  const std::size_t front =
+      trim(b.from, [&](std::size_t k) { return b.points[k]; }, n);
+  const std::size_t back =
+      trim(b.to, [&](std::size_t k) { return b.points[n - 1 - k]; }, n - front);
+  return {front, n - front - back};
 }
 
 }  // namespace detail
@@ -336,8 +446,6 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   if (!node_distance) return unexpected{node_distance.error()};
   if (!stretches) return unexpected{stretches.error()};
   PERCH_TRY(distances_to_trunk(graph, *node_distance, ws));
-  auto windows = bounded_vector<window_measures>::make(ws, options.max_windows);
-  if (!windows) return unexpected{windows.error()};
   window_options geometry;
   geometry.drone_width_mm = platform.geometry.drone_width_mm;
   geometry.claw_width_mm = platform.geometry.claw_width_mm;
@@ -345,12 +453,19 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   geometry.curvature_stencil_mm = options.curvature_stencil_mm;
   geometry.camera = options.camera;
   PERCH_TRY(geometry.validate());
+  // Capacity: a stretch of n points is at most 1.5·n px long, so it has at most
+  // 1.5·n / stride + 1 windows; `options.max_windows` caps the total (capacity_exceeded).
   std::size_t longest = 0;
+  std::size_t bound = 0;
+  const float stride_px = options.stride_mm / mm_per_px;
   graph.for_each_branch([&](const skeleton_branch& b) {
     const detail::branch_stretch stretch = detail::outside_junctions(graph, b);
     (*stretches)[static_cast<std::size_t>(b.id)] = stretch;
     longest = std::max(longest, stretch.count);
+    bound += static_cast<std::size_t>(1.5f * static_cast<float>(stretch.count) / stride_px) + 1;
   });
+  auto windows = bounded_vector<window_measures>::make(ws, std::min(bound, options.max_windows));
+  if (!windows) return unexpected{windows.error()};
   auto window_scratch = ws.allocate<float>(window_scratch_floats(longest));
   if (!window_scratch) return unexpected{window_scratch.error()};
   status measured{};
@@ -361,7 +476,8 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
     const detail::branch_stretch stretch = (*stretches)[static_cast<std::size_t>(b.id)];
     branch_geometry g{b.points.subspan(stretch.first, stretch.count),
                       b.radius_px.subspan(stretch.first, stretch.count), b.id, b.component,
-                      to < from ? origin_end::back : origin_end::front, prepared->offset};
+                      to < from ? origin_end::back : origin_end::front, prepared->offset,
+                      static_cast<std::uint32_t>(stretch.first)};
     measured = measure_windows(g, *scaled, mm_per_px, *window_scratch, *windows, geometry);
   });
   PERCH_TRY(measured);
@@ -373,9 +489,7 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   PERCH_TRY(tree.build(image_view<const std::uint8_t>(local), ws));
   const point2f up = options.camera.up();
   auto make_context = [&](const window_measures& m) {
-    const skeleton_branch b = graph.branch(m.branch);
-    const std::span<const pixel> points =
-        b.points.subspan((*stretches)[static_cast<std::size_t>(m.branch)].first);
+    const std::span<const pixel> points = graph.branch(m.branch).points;
     const pixel mid = points[m.middle];
     return window_context(tree, m, to_point(points[m.first]), to_point(points[m.last]),
                           std::sqrt(static_cast<float>(dist(mid.x, mid.y))), up);
@@ -384,20 +498,24 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
                              make_context, ws, options.ranking);
   if (!ranked) return unexpected{ranked.error()};
 
-  // Report sites in input-image pixels.
+  // Report sites and near misses in input-image pixels.
+  auto to_input = [&](window_measures& window) {
+    const point2f c = prepared->to_input(to_point(window.centre));
+    window.centre = {static_cast<std::int32_t>(std::lround(c.x())),
+                     static_cast<std::int32_t>(std::lround(c.y()))};
+    window.mm_per_px *= options.downscale;
+  };
   auto sites = ws.allocate<perch_site>(ranked->sites.size());
+  auto misses = ws.allocate<near_miss>(ranked->near_misses.size());
   if (!sites) return unexpected{sites.error()};
-  for (std::size_t i = 0; i < sites->size(); ++i) {
-    perch_site s = ranked->sites[i];
-    const point2f c = prepared->to_input(to_point(s.window.centre));
-    s.window.centre = {static_cast<std::int32_t>(std::lround(c.x())),
-                       static_cast<std::int32_t>(std::lround(c.y()))};
-    s.window.mm_per_px *= options.downscale;
-    (*sites)[i] = s;
-  }
+  if (!misses) return unexpected{misses.error()};
+  std::copy(ranked->sites.begin(), ranked->sites.end(), sites->begin());
+  std::copy(ranked->near_misses.begin(), ranked->near_misses.end(), misses->begin());
+  for (perch_site& s : *sites) to_input(s.window);
+  for (near_miss& m : *misses) to_input(m.window);
   out.sites = *sites;
   out.rejections = ranked->rejections;
-  out.near_misses = ranked->near_misses;
+  out.near_misses = *misses;
   out.viable = ranked->viable;
   out.outcome = out.sites.empty() ? perch_outcome::no_perch : perch_outcome::found;
   out.timing.ranking_ms = clock.lap();

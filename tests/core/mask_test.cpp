@@ -112,7 +112,7 @@ TEST_CASE("prepare_mask: area downscale keeps a strip's width in proportion") {
       }
     REQUIRE(n > 0);
     const perch::point2f centre = prepared->to_input({10.0f, sum / static_cast<float>(n)});
-    CHECK(centre.y() == doctest::Approx(11.5f).epsilon(0.02));
+    CHECK(centre.y() == doctest::Approx(11.5).epsilon(0.02));
   }
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "perch/core/image.hpp"
@@ -149,4 +150,42 @@ TEST_CASE("medial_axis: two thick diagonal strokes crossing give one thin connec
                    r.skeleton(x + 1, y + 1)));
     }
   CHECK(count > 100);
+}
+
+TEST_CASE("medial_axis: a mask with a background frame gives the same skeleton in place") {
+  // A background frame lets the medial axis thin in its output and read dist2 by index; a
+  // wider output stride or a dist2 laid out differently takes the padded copy or positions.
+  std::mt19937 rng(913);
+  workspace ws;
+  for (int round = 0; round < 300; ++round) {
+    const int w = 3 + static_cast<int>(rng() % 40);
+    const int h = 3 + static_cast<int>(rng() % 40);
+    image<std::uint8_t> m(w, h);
+    std::bernoulli_distribution ink(std::uniform_real_distribution<double>(0.3, 0.95)(rng));
+    for (int y = 1; y + 1 < h; ++y)
+      for (int x = 1; x + 1 < w; ++x) m(x, y) = ink(rng) ? static_cast<std::uint8_t>(1 + rng() % 3) : 0;
+    image<std::uint32_t> d2(w, h);
+    REQUIRE(perch::distance_transform_sq(m.view(), d2.view(), ws));
+    image<std::uint8_t> in_place(w, h, 7);
+    REQUIRE(perch::medial_axis{}(m.view(), d2.view(), in_place.view(), ws));
+    image<std::uint32_t> d2_wide(w + 5, h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) d2_wide(x, y) = d2(x, y);
+    image<std::uint8_t> by_position(w, h, 7);
+    REQUIRE(perch::medial_axis{}(m.view(), d2_wide.view().sub_view(0, 0, w, h), by_position.view(), ws));
+    image<std::uint8_t> wide(w + 9, h, 7);
+    const auto padded = wide.view().sub_view(0, 0, w, h);
+    REQUIRE(perch::medial_axis{}(m.view(), d2.view(), padded, ws));
+    bool same = true, binary = true;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        same = same && in_place(x, y) == padded(x, y) && by_position(x, y) == padded(x, y);
+        binary = binary && in_place(x, y) <= 1;
+      }
+    INFO("mask:\n" << to_ascii(m.view()) << "in place:\n" << to_ascii(in_place.view())
+                   << "padded:\n" << to_ascii(padded));
+    CHECK(same);
+    CHECK(binary);
+    CHECK(ws.used() == 0);
+  }
 }

@@ -1251,6 +1251,39 @@ class perch_truth {
       boxes[i] = bx;
     }
     const float gap = spec_.junction_gap_px;
+    // A limb whose every disc lies inside one other limb (within half a pixel, the mask's
+    // rasterisation) is not in the mask at all: it adds no pixel, so there is nothing to grasp
+    // around or to avoid, and it makes no junction. (The generator can grow a thin side limb
+    // almost along its parent; it then stays hidden inside it.)
+    std::vector<std::uint8_t> hidden(limbs.size(), 0);
+    for (std::size_t bi = 0; bi < limbs.size(); ++bi) {
+      const limb_truth& B = limbs[bi];
+      if (B.kind == limb_kind::twig || B.centreline.size() < 2) continue;
+      const float len = length_px(B);
+      const int n = std::max(1, static_cast<int>(std::ceil(len)));
+      for (std::size_t ci = 0; ci < limbs.size() && hidden[bi] == 0; ++ci) {
+        const limb_truth& C = limbs[ci];
+        if (ci == bi || C.kind == limb_kind::twig || C.centreline.size() < 2) continue;
+        bool inside = true;
+        for (int i = 0; i <= n && inside; ++i) {
+          const float s = len * static_cast<float>(i) / static_cast<float>(n);
+          const Eigen::Vector2f p = truth_point_at(B, s);
+          const float rb = 0.5f * truth_diameter_at(B, s);
+          bool in = false;
+          for (std::size_t k = 0; k + 1 < C.centreline.size() && !in; ++k) {
+            const Eigen::Vector2f q0 = C.centreline[k];
+            const Eigen::Vector2f d = C.centreline[k + 1] - q0;
+            const float len2 = d.squaredNorm();
+            const float t = len2 > 0.0f ? std::clamp((p - q0).dot(d) / len2, 0.0f, 1.0f) : 0.0f;
+            const float rc =
+                0.5f * (C.diameter_px[k] + t * (C.diameter_px[k + 1] - C.diameter_px[k]));
+            in = (p - (q0 + t * d)).norm() + rb <= rc + 0.5f;
+          }
+          inside = in;
+        }
+        hidden[bi] = inside ? 1 : 0;
+      }
+    }
     for (std::size_t ai = 0; ai < limbs.size(); ++ai) {
       const limb_truth& A = limbs[ai];
       if (A.kind == limb_kind::twig || A.centreline.size() < 2) continue;
@@ -1259,7 +1292,8 @@ class perch_truth {
       std::vector<std::uint8_t> hit(static_cast<std::size_t>(n) + 1, 0);  // 1 contact, 2 body
       for (std::size_t bi = 0; bi < limbs.size(); ++bi) {
         const limb_truth& B = limbs[bi];
-        if (bi == ai || B.kind == limb_kind::twig || B.centreline.size() < 2) continue;
+        if (bi == ai || B.kind == limb_kind::twig || B.centreline.size() < 2 || hidden[bi] != 0)
+          continue;
         const box& ba = boxes[ai];
         const box& bb = boxes[bi];
         if (ba.x1 + gap < bb.x0 || bb.x1 + gap < ba.x0 || ba.y1 + gap < bb.y0 ||

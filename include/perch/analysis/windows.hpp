@@ -31,6 +31,9 @@ struct branch_geometry {
   std::int32_t component = -1;
   origin_end origin = origin_end::front;
   pixel offset{};
+  /// Index of `points[0]` in the whole branch polyline when `points` is a stretch of it: added
+  /// to the reported `first`, `last` and `middle` so they index the whole polyline.
+  std::uint32_t first_index = 0;
 };
 
 /// Window geometry and measuring options. Defaults: the tendon-claw drone of Li et al. 2025.
@@ -132,9 +135,9 @@ template <ScalePolicy Scale>
     window_measures w;
     w.branch = branch.branch;
     w.component = branch.component;
-    w.first = static_cast<std::uint32_t>(a);
-    w.last = static_cast<std::uint32_t>(b);
-    w.middle = static_cast<std::uint32_t>(m);
+    w.first = branch.first_index + static_cast<std::uint32_t>(a);
+    w.last = branch.first_index + static_cast<std::uint32_t>(b);
+    w.middle = branch.first_index + static_cast<std::uint32_t>(m);
     w.centre = to_image(branch.points[m]);
     w.start_px = arc[a];
     w.length_px = arc[b] - arc[a];

@@ -40,7 +40,7 @@ inline assert_handler set_assert_handler(assert_handler handler) noexcept {
 /// before including perch to route it anywhere.
 #ifndef PERCH_ASSERT
 #if defined(PERCH_DISABLE_ASSERTS) || (defined(NDEBUG) && !defined(PERCH_ENABLE_ASSERTS))
-#define PERCH_ASSERT(condition, message) static_cast<void>(0)
+#define PERCH_ASSERT(condition, message) static_cast<void>(sizeof((condition) ? 1 : 0))
 #else
 #define PERCH_ASSERT(condition, message)                                                  \
   ((condition) ? static_cast<void>(0)                                                    \

@@ -81,32 +81,76 @@ struct medial_axis {
   [[nodiscard]] status run(image_view<const std::uint8_t> mask,
                            image_view<const std::uint32_t> dist2,
                            image_view<std::uint8_t> skeleton, workspace& ws) const noexcept {
-    auto loaded = detail::load_padded(mask, ws);
-    if (!loaded) return unexpected{loaded.error()};
-    const detail::padded_image img = *loaded;
+    // Fast path: a mask with a background frame (as `prepare_mask` makes) is thinned in the
+    // output itself, and when `dist2` is laid out like the output its values are read by index.
+    const bool in_place = detail::has_background_frame(mask) &&
+                          skeleton.stride() <= static_cast<std::ptrdiff_t>(mask.width()) + 2;
+    detail::padded_image img;
+    if (in_place) {
+      img = detail::load_in_place(mask, skeleton);
+    } else {
+      auto loaded = detail::load_padded(mask, ws);
+      if (!loaded) return unexpected{loaded.error()};
+      img = *loaded;
+    }
     const std::uint32_t cap = max_dist2(img.width, img.height);
-    auto next_memory = ws.allocate<std::uint32_t>(detail::padded_pixels(img.width, img.height) + 16);
+    const std::size_t cells = in_place ? static_cast<std::size_t>(img.stride) *
+                                             static_cast<std::size_t>(img.height)
+                                       : detail::padded_pixels(img.width, img.height);
+    auto next_memory = ws.allocate<std::uint32_t>(cells + 16);
     auto head_memory = ws.allocate<std::uint32_t>(std::size_t{cap} + 1);
     auto tail_memory = ws.allocate<std::uint32_t>(std::size_t{cap} + 1);
     if (!next_memory) return unexpected{next_memory.error()};
     if (!head_memory) return unexpected{head_memory.error()};
     if (!tail_memory) return unexpected{tail_memory.error()};
-    std::uint32_t* next = next_memory->data();
-    std::uint32_t* head = head_memory->data();
-    std::uint32_t* tail = tail_memory->data();
-    std::uint8_t* px = img.px;
+    buckets q{next_memory->data(), head_memory->data(), tail_memory->data(), img.px};
+    if (in_place && dist2.stride() == img.stride) {
+      peel(img, q, key_by_index{dist2.data(), img.stride, cap});
+    } else {
+      peel(img, q, key_by_position{&img, dist2, cap});
+    }
+    if (thinness == perch::thinness::one_pixel)
+      (void)detail::remove_blocks(img, mask, dist2, next_memory->data());
+    if (!in_place) detail::store_skeleton(img, skeleton);
+    return {};
+  }
 
-    // Buckets are made empty lazily, up to the largest key pushed so far.
+  /// The peeling key of a pixel of the working image, min(dist2, cap): read by index when
+  /// `dist2` is laid out like the working image, else through the pixel's position.
+  struct key_by_index {
+    const std::uint32_t* d;
+    std::ptrdiff_t stride;
+    std::uint32_t cap;
+    std::uint32_t operator()(std::ptrdiff_t i) const noexcept { return d[i] < cap ? d[i] : cap; }
+    void prefetch(std::ptrdiff_t i) const noexcept {
+      detail::prefetch(d + i - stride);
+      detail::prefetch(d + i + stride);
+    }
+  };
+  struct key_by_position {
+    const detail::padded_image* img;
+    image_view<const std::uint32_t> dist2;
+    std::uint32_t cap;
+    std::uint32_t operator()(std::ptrdiff_t i) const noexcept {
+      const pixel p = img->position(i);
+      const std::uint32_t v = dist2(p.x, p.y);
+      return v < cap ? v : cap;
+    }
+    void prefetch(std::ptrdiff_t) const noexcept {}
+  };
+
+  /// The monotone bucket queue: FIFO lists per key, linked through `next`; buckets are made
+  /// empty lazily, up to the largest key pushed so far. Bit 1 of a pixel flags it as queued.
+  struct buckets {
+    std::uint32_t* next;
+    std::uint32_t* head;
+    std::uint32_t* tail;
+    std::uint8_t* px;
     std::int64_t ready = -1;
     std::uint32_t top = 0;
-    auto key_of = [&](std::ptrdiff_t i) {
-      const pixel p = img.position(i);
-      const std::uint32_t d = dist2(p.x, p.y);
-      return d < cap ? d : cap;
-    };
-    auto push = [&](std::ptrdiff_t i, std::uint32_t key) {
+
+    void push(std::uint32_t u, std::uint32_t key) noexcept {
       while (ready < static_cast<std::int64_t>(key)) head[++ready] = empty;
-      const auto u = static_cast<std::uint32_t>(i);
       next[u] = empty;
       if (head[key] == empty) {
         head[key] = u;
@@ -115,33 +159,43 @@ struct medial_axis {
       }
       tail[key] = u;
       if (key > top) top = key;
-      px[i] |= 2u;
-    };
+      px[u] |= 2u;
+    }
+  };
 
-    detail::for_each_foreground(img, [&](std::ptrdiff_t i) {
-      if (img.on_border(i)) push(i, key_of(i));
-    });
-
-    for (std::uint32_t current = 0; current <= top && ready >= 0; ++current) {
-      while (head[current] != empty) {
-        const std::uint32_t i = head[current];
-        head[current] = next[i];
+  template <class Key>
+  static void peel(const detail::padded_image& img, buckets& q, Key key_of) noexcept {
+    std::uint8_t* px = img.px;
+    std::ptrdiff_t offset[8];
+    for (int k = 0; k < 8; ++k) offset[k] = img.offset[k];
+    detail::for_each_border(
+        img, [&](std::ptrdiff_t i) { q.push(static_cast<std::uint32_t>(i), key_of(i)); });
+    for (std::uint32_t current = 0; current <= q.top && q.ready >= 0; ++current) {
+      while (q.head[current] != empty) {
+        const std::uint32_t i = q.head[current];
+        const std::uint32_t after = q.next[i];
+        q.head[current] = after;
+        if (after != empty) {
+          // The pixels of a level lie all over the image: fetch the next one's neighbourhood
+          // while this one is worked on (a hint only; no effect on the result).
+          detail::prefetch(px + after - img.stride);
+          detail::prefetch(px + after + img.stride);
+          detail::prefetch(q.next + after);
+          key_of.prefetch(static_cast<std::ptrdiff_t>(after));
+        }
         px[i] &= static_cast<std::uint8_t>(~2u);
         const unsigned c = img.code(i);
         if (!detail::deletable_table[c]) continue;
         px[i] = 0;
-        for (int k = 0; k < 8; ++k) {
-          const std::ptrdiff_t q = static_cast<std::ptrdiff_t>(i) + img.offset[k];
-          if ((px[q] & 3u) != 1u) continue;
-          const std::uint32_t key = key_of(q);
-          push(q, key > current ? key : current);
+        // The neighbours left (the bits of the code), in code order, unless already queued.
+        for (unsigned left = c; left != 0; left &= left - 1) {
+          const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(i) + offset[std::countr_zero(left)];
+          if ((px[n] & 2u) != 0) continue;
+          const std::uint32_t key = key_of(n);
+          q.push(static_cast<std::uint32_t>(n), key > current ? key : current);
         }
       }
     }
-
-    if (thinness == perch::thinness::one_pixel) (void)detail::remove_blocks(img, mask, dist2, next);
-    detail::store_skeleton(img, skeleton);
-    return {};
   }
 };
 

@@ -12,10 +12,11 @@
 namespace perch::detail {
 
 /// Floor division for a positive divisor (Meijster's `div` rounds down). The quotient is
-/// estimated in double precision (much faster than a 64-bit integer division) and corrected
+/// estimated in double precision (much faster than a 64-bit integer division), truncated (an
+/// inline conversion, where `std::floor` is a library call without SSE4.1) and corrected
 /// exactly with integer products.
 [[nodiscard]] inline std::int64_t floor_div(std::int64_t a, std::int64_t b) noexcept {
-  auto q = static_cast<std::int64_t>(std::floor(static_cast<double>(a) / static_cast<double>(b)));
+  auto q = static_cast<std::int64_t>(static_cast<double>(a) / static_cast<double>(b));
   if (q * b > a) --q;
   if ((q + 1) * b <= a) ++q;
   return q;

@@ -128,8 +128,21 @@ inline constexpr neighbourhood_table deletable_table = make_deletable_table();
   return table;
 }
 
-/// The working copy: (width + 2) × (height + 2) bytes, background frame, pixel (x, y) at
-/// index (y + 1)·stride + x + 1.
+/// A hint to fetch the cache line holding `p` (no effect on the result; nothing where the
+/// compiler has no such builtin). `p` need not be dereferenceable.
+inline void prefetch(const void* p) noexcept {
+#if defined(__GNUC__) || defined(__clang__)
+  __builtin_prefetch(p);
+#else
+  (void)p;
+#endif
+}
+
+/// The working image, one byte per pixel with a background frame: either a padded copy,
+/// (width + 2) × (height + 2) bytes with pixel (x, y) at index (y + 1)·stride + x + 1
+/// (`pad` = 1), or the caller's output itself when the mask's outermost rows and columns are
+/// background, pixel (x, y) at index y·stride + x (`pad` = 0; the frame is the image's own
+/// border, which stays background).
 struct padded_image {
   std::uint8_t* px = nullptr;
   int width = 0;
@@ -137,16 +150,17 @@ struct padded_image {
   std::ptrdiff_t stride = 0;
   std::ptrdiff_t offset[8] = {};  ///< index offsets of code bits 0…7
   double inv_stride = 0;
+  int pad = 1;  ///< 1 for the padded copy, 0 when working in the output
 
   [[nodiscard]] std::ptrdiff_t index(int x, int y) const noexcept {
-    return (static_cast<std::ptrdiff_t>(y) + 1) * stride + x + 1;
+    return (static_cast<std::ptrdiff_t>(y) + pad) * stride + x + pad;
   }
   /// (x, y) of index `i`.
   [[nodiscard]] pixel position(std::ptrdiff_t i) const noexcept {
     auto row = static_cast<std::ptrdiff_t>(static_cast<double>(i) * inv_stride);
     if (row * stride > i) --row;
     if ((row + 1) * stride <= i) ++row;
-    return {static_cast<std::int32_t>(i - row * stride - 1), static_cast<std::int32_t>(row - 1)};
+    return {static_cast<std::int32_t>(i - row * stride - pad), static_cast<std::int32_t>(row - pad)};
   }
   [[nodiscard]] unsigned code(std::ptrdiff_t i) const noexcept {
     const std::uint8_t* p = px + i;
@@ -189,6 +203,43 @@ struct padded_image {
   return img;
 }
 
+/// True when every pixel of the outermost rows and columns of `mask` is background (and the
+/// mask is at least 3 × 3), so the skeletonisers may work in their output directly.
+[[nodiscard]] inline bool has_background_frame(image_view<const std::uint8_t> mask) noexcept {
+  const int w = mask.width();
+  const int h = mask.height();
+  if (w < 3 || h < 3) return false;
+  const std::uint8_t* first = mask.data();
+  const std::uint8_t* last = mask.data() + static_cast<std::ptrdiff_t>(h - 1) * mask.stride();
+  for (int x = 0; x < w; ++x)
+    if ((first[x] | last[x]) != 0) return false;
+  for (int y = 1; y + 1 < h; ++y) {
+    const std::uint8_t* row = mask.data() + static_cast<std::ptrdiff_t>(y) * mask.stride();
+    if ((row[0] | row[w - 1]) != 0) return false;
+  }
+  return true;
+}
+
+/// The working image in `out` itself (`pad` = 0), `mask` (non-zero = 1) copied into it.
+/// Precondition: `has_background_frame(mask)`, `out` of the same size.
+[[nodiscard]] inline padded_image load_in_place(image_view<const std::uint8_t> mask,
+                                                image_view<std::uint8_t> out) noexcept {
+  padded_image img;
+  img.width = mask.width();
+  img.height = mask.height();
+  img.stride = out.stride();
+  img.pad = 0;
+  img.inv_stride = 1.0 / static_cast<double>(img.stride);
+  for (int k = 0; k < 8; ++k) img.offset[k] = code_dy[k] * img.stride + code_dx[k];
+  img.px = out.data();
+  for (int y = 0; y < img.height; ++y) {
+    const std::uint8_t* m = mask.data() + static_cast<std::ptrdiff_t>(y) * mask.stride();
+    std::uint8_t* d = img.px + static_cast<std::ptrdiff_t>(y) * img.stride;
+    for (int x = 0; x < img.width; ++x) d[x] = m[x] != 0 ? 1 : 0;
+  }
+  return img;
+}
+
 /// Writes bit 0 of the working image to `out` (1 skeleton, 0 not), every pixel.
 inline void store_skeleton(const padded_image& img, image_view<std::uint8_t> out) noexcept {
   for (int y = 0; y < img.height; ++y) {
@@ -218,6 +269,40 @@ inline void for_each_foreground(const padded_image& img, Visit&& visit) noexcept
       if ((p[x] & 1u) != 0) visit(row + x);
       ++x;
     }
+  }
+}
+
+/// Calls `visit(i)` for every foreground pixel of the working image with a background
+/// 4-neighbour, in raster order; eight pixels at a time (their four neighbours are combined
+/// bytewise), skipping background.
+template <class Visit>
+inline void for_each_border(const padded_image& img, Visit&& visit) noexcept {
+  constexpr std::uint64_t ones = 0x0101010101010101ull;
+  const std::ptrdiff_t s = img.stride;
+  // The rows and columns that may hold foreground (the output's own frame never does).
+  const int x0 = 1 - img.pad;
+  const int x1 = img.width - 1 + img.pad;
+  const int y0 = 1 - img.pad;
+  const int y1 = img.height - 1 + img.pad;
+  for (int y = y0; y < y1; ++y) {
+    const std::ptrdiff_t row = img.index(0, y);
+    const std::uint8_t* p = img.px + row;
+    int x = x0;
+    for (; std::endian::native == std::endian::little && x + 8 <= x1; x += 8) {
+      std::uint64_t a = 0;
+      std::memcpy(&a, p + x, 8);
+      a &= ones;
+      if (a == 0) continue;
+      std::uint64_t up = 0, down = 0, left = 0, right = 0;
+      std::memcpy(&up, p + x - s, 8);
+      std::memcpy(&down, p + x + s, 8);
+      std::memcpy(&left, p + x - 1, 8);
+      std::memcpy(&right, p + x + 1, 8);
+      for (std::uint64_t b = a & ~(up & down & left & right); b != 0; b &= b - 1)
+        visit(row + x + std::countr_zero(b) / 8);
+    }
+    for (; x < x1; ++x)
+      if ((p[x] & 1u) != 0 && img.on_border(row + x)) visit(row + x);
   }
 }
 

@@ -1,0 +1,231 @@
+#include "annotate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "support/draw.hpp"
+#include "support/font.hpp"
+
+namespace perch::tool {
+namespace {
+
+using support::draw_point;
+using support::rgb;
+namespace colours = support::colours;
+
+constexpr rgb perch_colour{255, 215, 0};
+constexpr rgb site_colour{60, 220, 90};
+constexpr rgb miss_colour{240, 70, 60};
+constexpr rgb pruned_colour{150, 150, 150};
+constexpr rgb end_colour{250, 140, 20};
+constexpr rgb trunk_colour{40, 210, 230};
+
+struct frame {
+  const perch_result& r;
+  /// Local (analysed, cropped) pixel → input-image point.
+  [[nodiscard]] draw_point at(pixel local) const {
+    const point2f p = r.mask.to_input(point2f(static_cast<float>(local.x + r.mask.offset.x),
+                                              static_cast<float>(local.y + r.mask.offset.y)));
+    return {p.x(), p.y()};
+  }
+  /// Input pixels per analysed pixel.
+  [[nodiscard]] float scale() const { return 1.0f / r.mask.factor; }
+};
+
+std::vector<draw_point> window_points(const frame& f, const window_measures& m) {
+  std::vector<draw_point> out;
+  const skeleton_graph& g = f.r.graph;
+  if (m.branch < 0 || !g.contains_branch(m.branch)) return out;
+  const skeleton_branch b = g.branch(m.branch);
+  for (std::size_t i = m.first; i <= m.last && i < b.points.size(); ++i)
+    out.push_back(f.at(b.points[i]));
+  return out;
+}
+
+std::string format(const char* pattern, double a, double b = 0.0) {
+  char buffer[128];
+  std::snprintf(buffer, sizeof buffer, pattern, a, b);
+  return buffer;
+}
+
+}  // namespace
+
+image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geometry,
+                          const image<std::uint8_t>& mask, const image<png::rgb8>* photo) {
+  image<png::rgb8> picture(mask.width(), mask.height());
+  const image_view<png::rgb8> canvas = picture.view();
+  if (photo != nullptr && photo->width() == mask.width() && photo->height() == mask.height()) {
+    std::copy(photo->data(), photo->data() + static_cast<std::ptrdiff_t>(picture.width()) * picture.height(),
+              picture.data());
+    support::dim(canvas, {.saturation = 0.2f, .towards = colours::black, .amount = 0.55f});
+  } else {
+    support::paint_mask(mask.view(), canvas, rgb{200, 196, 188}, rgb{16, 20, 28});
+    support::dim(canvas, {.saturation = 0.0f, .towards = colours::black, .amount = 0.2f});
+  }
+
+  const frame f{r};
+  const float size = static_cast<float>(std::max(mask.width(), mask.height()));
+  const float stroke = std::max(2.0f, size / 320.0f);
+  const int text_scale = std::clamp(static_cast<int>(std::lround(size / 480.0f)), 1, 6);
+  const float analysed_mm_per_px = r.mm_per_px / r.mask.factor;
+  const float diameter_top_mm = 2.0f * geometry.grasp_max_mm;
+
+  // 1. Skeleton pixels pruning removed (faint), under the graph.
+  if (!r.skeleton.empty()) {
+    const float dot = std::max(0.5f, 0.5f * f.scale());
+    for (int y = 0; y < r.skeleton.height(); ++y)
+      for (int x = 0; x < r.skeleton.width(); ++x)
+        if (r.skeleton(x, y) != 0) support::fill_circle(canvas, f.at({x, y}), dot, pruned_colour, 0.6f);
+  }
+
+  // 2. Branches coloured by diameter.
+  {
+    r.graph.for_each_branch([&](const skeleton_branch& b) {
+      for (std::size_t i = 0; i < b.points.size(); ++i) {
+        const float d_mm = diameter_px(b.radius_px[i]) * analysed_mm_per_px;
+        const rgb c = support::colour_map(d_mm, 0.0f, diameter_top_mm);
+        const draw_point p = f.at(b.points[i]);
+        const draw_point q = i + 1 < b.points.size() ? f.at(b.points[i + 1]) : p;
+        support::draw_line(canvas, p, q, c, stroke);
+      }
+    });
+  }
+
+  // 3. Near misses (faint), then the ranked sites' windows.
+  for (const near_miss& m : r.near_misses) {
+    if (!m.present) continue;
+    const std::vector<draw_point> pts = window_points(f, m.window);
+    support::draw_polyline(canvas, pts, miss_colour, 3.0f * stroke, 0.45f);
+    if (!pts.empty()) {
+      const draw_point c = pts[pts.size() / 2];
+      support::draw_text(canvas, static_cast<int>(c.x + 2.0f * stroke), static_cast<int>(c.y + 2.0f * stroke),
+                         m.constraint, miss_colour,
+                         {.scale = text_scale, .alpha = 0.9f, .background = colours::black,
+                          .background_alpha = 0.5f});
+    }
+  }
+  for (std::size_t i = r.sites.size(); i-- > 0;) {
+    const std::vector<draw_point> pts = window_points(f, r.sites[i].window);
+    support::draw_polyline(canvas, pts, site_colour, 3.0f * stroke, i == 0 ? 0.9f : 0.7f);
+  }
+
+  // 4. Graph nodes.
+  {
+    r.graph.for_each_node([&](const skeleton_node& n) {
+      const draw_point p = f.at(n.position);
+      const rgb c = n.kind == node_kind::junction ? colours::white
+                    : n.kind == node_kind::end    ? end_colour
+                                                  : pruned_colour;
+      support::fill_circle(canvas, p, 1.2f * stroke, c);
+      if (n.trunk) support::draw_circle(canvas, p, 3.2f * stroke, trunk_colour, stroke);
+    });
+  }
+
+  // 5. Ranked site numbers and the chosen perch.
+  for (std::size_t i = 1; i < r.sites.size(); ++i) {
+    const pixel c = r.sites[i].window.centre;
+    const std::string label = "#" + std::to_string(i + 1);
+    support::draw_text(canvas, c.x + static_cast<int>(3.0f * stroke), c.y - static_cast<int>(6.0f * stroke),
+                       label, site_colour, {.scale = text_scale, .background = colours::black, .background_alpha = 0.6f});
+  }
+  // 6. Status line and legend.
+  std::string status;
+  if (r.outcome == perch_outcome::found)
+    status = std::string(r.platform) + ": perch found, " + std::to_string(r.sites.size()) + " site" +
+             (r.sites.size() == 1 ? "" : "s");
+  else if (r.outcome == perch_outcome::no_perch) {
+    const rejection_count* worst = nullptr;
+    for (const rejection_count& c : r.rejections)
+      if (worst == nullptr || c.windows > worst->windows) worst = &c;
+    status = std::string(r.platform) + ": NO PERCH";
+    if (worst != nullptr && worst->windows > 0)
+      status += ", " + std::string(worst->constraint) + " rejected " + std::to_string(worst->windows) + " of " +
+                std::to_string(r.windows) + " windows";
+  }
+  else
+    status = std::string(r.platform) + ": NO TREE in the mask";
+  status += format("\n%.2f mm/px", static_cast<double>(r.mm_per_px)) + " (" + std::string(r.scale) + ")";
+  support::draw_text(canvas, 6 * text_scale, 6 * text_scale, status,
+                     r.outcome == perch_outcome::found ? perch_colour : miss_colour,
+                     {.scale = text_scale, .background = colours::black, .background_alpha = 0.7f, .padding_px = 3 * text_scale});
+
+  const std::string ramp = format("diameter 0-%.0f mm", static_cast<double>(diameter_top_mm));
+  const support::legend_entry entries[] = {
+      {.label = ramp, .marker = support::legend_marker::ramp},
+      {.label = "pruned skeleton", .colour = pruned_colour, .marker = support::legend_marker::line, .alpha = 0.6f},
+      {.label = "junction / end", .colour = colours::white, .marker = support::legend_marker::dot},
+      {.label = "trunk node", .colour = trunk_colour, .marker = support::legend_marker::outline},
+      {.label = "ranked windows", .colour = site_colour, .marker = support::legend_marker::line},
+      {.label = "near misses", .colour = miss_colour, .marker = support::legend_marker::line, .alpha = 0.45f},
+      {.label = "perch: claw x diameter", .colour = perch_colour, .marker = support::legend_marker::outline},
+  };
+  const support::legend_options legend{.scale = text_scale};
+  const support::text_box box = support::legend_size(entries, legend);
+  // The legend goes to the corner (top right, bottom right, bottom left) that hides the least
+  // tree and not the chosen perch.
+  const int margin = 6 * text_scale;
+  const int corners[3][2] = {{canvas.width() - box.width - margin, margin},
+                             {canvas.width() - box.width - margin, canvas.height() - box.height - margin},
+                             {margin, canvas.height() - box.height - margin}};
+  long best_cost = -1;
+  int best = 0;
+  for (int k = 0; k < 3; ++k) {
+    const int x0 = std::max(0, corners[k][0]);
+    const int y0 = std::max(0, corners[k][1]);
+    const int x1 = std::min(canvas.width(), corners[k][0] + box.width);
+    const int y1 = std::min(canvas.height(), corners[k][1] + box.height);
+    long cost = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) cost += mask(x, y) != 0 ? 1 : 0;
+    if (!r.sites.empty()) {
+      const pixel c = r.sites.front().window.centre;
+      const int reach = 12 * text_scale * 6;
+      if (c.x + reach >= corners[k][0] && c.x - reach < corners[k][0] + box.width && c.y + reach >= corners[k][1] &&
+          c.y - reach < corners[k][1] + box.height)
+        cost += 1L << 40;
+    }
+    if (best_cost < 0 || cost < best_cost) {
+      best_cost = cost;
+      best = k;
+    }
+  }
+  support::draw_legend(canvas, corners[best][0], corners[best][1], entries, legend);
+
+  // 7. The chosen perch, on top of everything.
+  if (!r.sites.empty()) {
+    const window_measures& m = r.sites.front().window;
+    const std::vector<draw_point> pts = window_points(f, m);
+    float angle = 0.0f;
+    if (pts.size() >= 2)
+      angle = std::atan2(pts.back().y - pts.front().y, pts.back().x - pts.front().x) * 180.0f /
+              std::numbers::pi_v<float>;
+    const float px_per_mm = m.mm_per_px > 0 ? 1.0f / m.mm_per_px : 0.0f;
+    const support::rotated_rect rect{{static_cast<float>(m.centre.x), static_cast<float>(m.centre.y)},
+                                     geometry.claw_width_mm * px_per_mm,
+                                     std::max(m.claw_diameter_mm * px_per_mm, 2.0f), angle};
+    support::draw_circle(canvas, rect.centre, 0.5f * rect.length + 4.0f * stroke, perch_colour, stroke, 0.8f);
+    support::fill_rotated_rect(canvas, rect, perch_colour, 0.3f);
+    support::draw_rotated_rect(canvas, rect, perch_colour, std::max(2.0f, 0.8f * stroke));
+    const std::string label = format("slope %.0f deg, d %.0f mm", static_cast<double>(m.slope_deg),
+                                     static_cast<double>(m.claw_diameter_mm));
+    const int w = support::text_width(label, text_scale);
+    const int h = support::text_height(label, text_scale);
+    const float reach = 0.5f * std::max(rect.length, rect.width) + 4.0f * stroke;
+    int x = static_cast<int>(static_cast<float>(m.centre.x) + reach);
+    int y = static_cast<int>(static_cast<float>(m.centre.y) - reach) - h;
+    if (x + w + 4 > canvas.width()) x = static_cast<int>(static_cast<float>(m.centre.x) - reach) - w;
+    if (y < 4) y = static_cast<int>(static_cast<float>(m.centre.y) + reach);
+    x = std::clamp(x, 4, std::max(4, canvas.width() - w - 4));
+    y = std::clamp(y, 4, std::max(4, canvas.height() - h - 4));
+    support::draw_text(canvas, x, y, label, perch_colour,
+                       {.scale = text_scale, .background = colours::black, .background_alpha = 0.75f, .padding_px = 3});
+  }
+
+  return picture;
+}
+
+}  // namespace perch::tool

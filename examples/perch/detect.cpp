@@ -1,0 +1,78 @@
+// perch detect MASK.png: the best perch sites of one mask, as JSON (and a picture).
+#include <cstdio>
+
+#include "tool.hpp"
+
+namespace perch::tool {
+
+int run_detect(int argc, const char* const* argv) {
+  support::arg_parser args("perch detect",
+                           "Finds where a drone can perch on the tree of a mask (any non-zero pixel is tree)\n"
+                           "and prints the answer as JSON.");
+  args.add_positional("MASK.png", "tree mask");
+  args.add_option("image", "PHOTO.png", "photo behind the --annotate picture (same size as the mask)");
+  add_pipeline_options(args, depth_option::offered);
+  args.add_option("json", "OUT.json", "write the JSON here instead of stdout");
+  args.add_option("annotate", "OUT.png", "write a picture of the answer");
+  args.set_epilog(
+      "JSON: {\"status\": \"ok\"|\"no_perch\", \"image\": {\"width\", \"height\"}, \"mm_per_px\", \"platform\",\n"
+      "       \"perch\": {\"x\", \"y\", \"slope_deg\", \"diameter_mm\", \"curvature_per_mm\", \"penalty\",\n"
+      "       \"branch\", \"component\"} or null, \"candidates\": [...], \"rejected\": {constraint: count},\n"
+      "       \"graph\": {\"nodes\", \"edges\", \"components\"}, \"timing_ms\": {stage: ms, ..., \"total\"}}\n"
+      "Exit status: 0 (also when no perch is found), 2 bad arguments or unreadable input, 1 internal failure.\n"
+      "Example: perch detect examples/data/synth-1.png --annotate perch.png");
+  int exit = exit_ok;
+  if (!parse_or_exit(args, argc, argv, "detect", exit)) return exit;
+  run_config config;
+  if (const std::string e = read_pipeline_options(args, depth_option::offered, config); !e.empty()) {
+    report_error("detect", e);
+    return exit_usage;
+  }
+  const std::string mask_path(*args.positional("MASK.png"));
+  image<std::uint8_t> mask;
+  if (const std::string e = load_mask(mask_path, mask); !e.empty()) {
+    report_error("detect", e);
+    return exit_usage;
+  }
+  std::optional<image<png::rgb8>> photo;
+  if (const auto path = args.value("image")) {
+    auto png = png::read_png_file(std::string(*path));
+    if (!png) {
+      report_error("detect", png.error().message);
+      return exit_usage;
+    }
+    photo = png::to_rgb8(*png);
+    if (photo->width() != mask.width() || photo->height() != mask.height()) {
+      report_error("detect", "--image " + std::string(*path) + " is " + std::to_string(photo->width()) +
+                                 "x" + std::to_string(photo->height()) + ", the mask " +
+                                 std::to_string(mask.width()) + "x" + std::to_string(mask.height()));
+      return exit_usage;
+    }
+  }
+  workspace ws;
+  analysis_request request;
+  request.mask = &mask;
+  request.photo = photo ? &*photo : nullptr;
+  request.annotation = args.has("annotate");
+  analysis_output out = analyse(request, config, ws);
+  if (out.exit_code != exit_ok) {
+    report_error("detect", mask_path + ": " + out.error);
+    return out.exit_code;
+  }
+  const std::string json_path(args.value("json").value_or(""));
+  if (const std::string e = write_text(json_path, out.detect_json); !e.empty()) {
+    report_error("detect", e);
+    return exit_internal;
+  }
+  if (out.annotated) {
+    const std::string path(*args.value("annotate"));
+    const png::png_status written = png::write_png(path, image_view<const png::rgb8>(out.annotated->view()));
+    if (!written) {
+      report_error("detect", written.error().message);
+      return exit_internal;
+    }
+  }
+  return exit_ok;
+}
+
+}  // namespace perch::tool

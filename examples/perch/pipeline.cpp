@@ -1,0 +1,215 @@
+// The shared part of the perch tool: options, loading, and `analyse` (find_perch + outputs).
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <type_traits>
+
+#include "annotate.hpp"
+#include "report.hpp"
+#include "tool.hpp"
+
+namespace perch::tool {
+
+platform_limits limits_of(platform_id id) {
+  return visit_platform(id, [](const auto& p) {
+    platform_limits out;
+    out.drone_width_mm = p.geometry.drone_width_mm;
+    out.claw_width_mm = p.geometry.claw_width_mm;
+    for_each_leaf(p.constraints, [&](const auto& leaf, std::size_t) {
+      using leaf_type = std::remove_cvref_t<decltype(leaf)>;
+      if constexpr (std::is_same_v<leaf_type, diameter_range>) {
+        out.diameter_min_mm = leaf.min_mm;
+        out.diameter_max_mm = leaf.max_mm;
+      } else if constexpr (std::is_same_v<leaf_type, max_slope>) {
+        out.slope_max_deg = leaf.max_deg;
+      } else if constexpr (std::is_same_v<leaf_type, min_slope>) {
+        out.slope_min_deg = leaf.min_deg;
+      }
+    });
+    return out;
+  });
+}
+
+void add_pipeline_options(support::arg_parser& args, depth_option depth) {
+  args.add_option("platform", "NAME",
+                  "tendon-claw, tensile-tether, metamorphic, ornithopter or treecreeper",
+                  "tendon-claw");
+  args.add_option("mm-per-px", "X", "known scale: millimetres per input pixel");
+  args.add_option("trunk-mm", "D", "trunk prior: the widest point of the tree is D mm wide", "180");
+  if (depth == depth_option::offered) {
+    args.add_option("depth", "DEPTH.png", "16-bit depth in mm registered to the mask (0 = invalid); needs --fx --fy --cx --cy");
+    args.add_option("fx", "F", "focal length x, px");
+    args.add_option("fy", "F", "focal length y, px");
+    args.add_option("cx", "C", "principal point x, px");
+    args.add_option("cy", "C", "principal point y, px");
+  }
+  args.add_option("roll-deg", "R", "camera roll: angle from the image x axis to the horizon, + clockwise", "0");
+  args.add_option("top", "K", "number of ranked candidates", "5");
+  args.add_option("downscale", "F", "analyse the mask reduced by F in (0, 1]", "1");
+  args.add_flag("no-timing", "report every timing as 0 (byte-identical output across runs)");
+}
+
+std::string read_pipeline_options(const support::arg_parser& args, depth_option depth,
+                                  run_config& config) {
+  const auto platform = args.get_choice("platform", "tendon-claw", platform_names);
+  if (!platform) return platform.error;
+  for (std::size_t i = 0; i < platform_names.size(); ++i)
+    if (platform_names[i] == platform.value) config.platform = static_cast<platform_id>(i);
+
+  const bool has_depth = depth == depth_option::offered && args.has("depth");
+  const int scales = (args.has("mm-per-px") ? 1 : 0) + (args.has("trunk-mm") ? 1 : 0) + (has_depth ? 1 : 0);
+  if (scales > 1) return "give one of --mm-per-px, --trunk-mm, --depth";
+  const auto mm = args.get_double("mm-per-px", 0.0, 1e-6, 1e6);
+  if (!mm) return mm.error;
+  const auto trunk = args.get_double("trunk-mm", 180.0, 1e-3, 1e6);
+  if (!trunk) return trunk.error;
+  config.scale.trunk_mm = static_cast<float>(trunk.value);
+  if (args.has("mm-per-px")) {
+    config.scale.kind = scale_kind::fixed;
+    config.scale.mm_per_px = static_cast<float>(mm.value);
+  }
+  if (depth == depth_option::offered) {
+    const char* names[] = {"fx", "fy", "cx", "cy"};
+    float values[4] = {};
+    int given = 0;
+    for (int i = 0; i < 4; ++i) {
+      const auto v = args.get_double(names[i], 0.0, -1e7, 1e7);
+      if (!v) return v.error;
+      values[i] = static_cast<float>(v.value);
+      given += args.has(names[i]) ? 1 : 0;
+    }
+    if (has_depth && given != 4) return "--depth needs --fx, --fy, --cx and --cy";
+    if (!has_depth && given != 0) return "--fx, --fy, --cx, --cy need --depth";
+    if (has_depth) {
+      if (!(values[0] > 0 && values[1] > 0)) return "--fx and --fy must be positive";
+      const std::string path(*args.value("depth"));
+      auto png = png::read_png_file(path);
+      if (!png) return "cannot read depth " + path + ": " + png.error().message;
+      config.scale.kind = scale_kind::depth;
+      config.scale.depth_mm = png::to_gray16(*png);
+      config.scale.intrinsics = pinhole{values[0], values[1], values[2], values[3]};
+    }
+  }
+  const auto roll = args.get_double("roll-deg", 0.0, -360.0, 360.0);
+  if (!roll) return roll.error;
+  config.roll_deg = static_cast<float>(roll.value);
+  const auto top = args.get_int("top", 5, 1, 1000);
+  if (!top) return top.error;
+  config.top_k = static_cast<std::size_t>(top.value);
+  const auto down = args.get_double("downscale", 1.0, 1e-3, 1.0);
+  if (!down) return down.error;
+  config.downscale = static_cast<float>(down.value);
+  config.timing = !args.flag("no-timing");
+  return {};
+}
+
+std::string load_mask(const std::filesystem::path& path, image<std::uint8_t>& mask) {
+  auto png = png::read_png_file(path);
+  if (!png) return png.error().message;
+  mask = png::to_mask(*png);
+  return {};
+}
+
+std::string describe(const error& e) {
+  std::string out(e.message());
+  if (!e.detail.empty()) out += " (" + std::string(e.detail) + ")";
+  if (e.needed != 0) out += ", needs " + std::to_string(e.needed);
+  return out;
+}
+
+int exit_code_for(const error& e) {
+  return e.code == errc::out_of_memory || e.code == errc::workspace_too_small ? exit_internal : exit_usage;
+}
+
+namespace {
+
+std::int64_t steady_now_ns() noexcept {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+template <class Platform, class Scale>
+analysis_output run(const analysis_request& request, const run_config& config, const Platform& platform,
+                    const Scale& scale, workspace& ws) {
+  analysis_output out;
+  perch_options options;
+  options.downscale = config.downscale;
+  options.camera = attitude{config.roll_deg};
+  options.ranking.top_k = config.top_k;
+  options.clock = config.timing ? &steady_now_ns : nullptr;
+  auto found = find_perch(request.mask->view(), platform, scale, ws, options);
+  if (!found) {
+    out.exit_code = exit_code_for(found.error());
+    out.error = describe(found.error());
+    return out;
+  }
+  const perch_result& r = *found;
+  out.outcome = r.outcome;
+  out.sites.assign(r.sites.begin(), r.sites.end());
+  out.mm_per_px = r.mm_per_px;
+  out.total_ms = r.timing.total_ms;
+  if (request.detect_json) out.detect_json = detect_json(r);
+  if (request.graph_json) out.graph_json = graph_json(r);
+  if (request.annotation) out.annotated = annotate(r, platform.geometry, *request.mask, request.photo);
+  return out;
+}
+
+}  // namespace
+
+analysis_output analyse(const analysis_request& request, const run_config& config, workspace& ws) {
+  return visit_platform(config.platform, [&](const auto& platform) {
+    switch (config.scale.kind) {
+      case scale_kind::fixed:
+        return run(request, config, platform, fixed_scale{config.scale.mm_per_px}, ws);
+      case scale_kind::depth: {
+        const image<std::uint16_t>& depth = *config.scale.depth_mm;
+        return run(request, config, platform,
+                   depth_scale{depth.view(), config.scale.intrinsics}, ws);
+      }
+      case scale_kind::trunk_prior:
+        break;
+    }
+    return run(request, config, platform, trunk_prior{config.scale.trunk_mm}, ws);
+  });
+}
+
+std::string write_text(const std::filesystem::path& path, std::string_view text) {
+  if (path.empty()) {
+    if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() || std::fflush(stdout) != 0)
+      return "cannot write to stdout";
+    return {};
+  }
+  std::ofstream file(path, std::ios::binary | std::ios::trunc);
+  if (!file) return "cannot open " + path.string() + " for writing";
+  file.write(text.data(), static_cast<std::streamsize>(text.size()));
+  file.close();
+  if (!file) return "cannot write " + path.string();
+  return {};
+}
+
+void report_error(std::string_view command, std::string_view message) {
+  std::fprintf(stderr, "perch %.*s: %.*s\n", static_cast<int>(command.size()), command.data(),
+               static_cast<int>(message.size()), message.data());
+}
+
+bool parse_or_exit(support::arg_parser& args, int argc, const char* const* argv,
+                   std::string_view command, int& exit) {
+  const std::string problem = args.parse(argc, argv, 2);
+  if (!problem.empty()) {
+    report_error(command, problem);
+    std::fprintf(stderr, "Run 'perch %.*s --help' for its options.\n", static_cast<int>(command.size()),
+                 command.data());
+    exit = exit_usage;
+    return false;
+  }
+  if (args.help_requested()) {
+    const std::string help = args.help();
+    std::fputs(help.c_str(), stdout);
+    exit = exit_ok;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace perch::tool

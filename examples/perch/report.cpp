@@ -1,0 +1,155 @@
+#include "report.hpp"
+
+#include <cmath>
+#include <string_view>
+
+#include "support/json_writer.hpp"
+
+namespace perch::tool {
+namespace {
+
+using support::json_layout;
+using support::json_style;
+using support::json_writer;
+
+/// Rounds to 1e-4 relative steps so the JSON stays short (still deterministic).
+float tidy(float v) {
+  if (!std::isfinite(v) || v == 0.0f) return v;
+  const double magnitude = std::pow(10.0, std::floor(std::log10(std::abs(static_cast<double>(v)))) - 5.0);
+  return static_cast<float>(std::round(static_cast<double>(v) / magnitude) * magnitude);
+}
+
+void write_site(json_writer& json, const perch_site& s) {
+  const window_measures& m = s.window;
+  json.begin_object();
+  json.member("x", m.centre.x).member("y", m.centre.y);
+  json.member("slope_deg", tidy(m.slope_deg));
+  json.member("diameter_mm", tidy(m.claw_diameter_mm));
+  json.member("curvature_per_mm", tidy(m.curvature_max_per_mm));
+  json.member("penalty", tidy(s.penalty));
+  json.member("branch", m.branch).member("component", m.component);
+  json.member("rank", s.rank);
+  if (m.has_position) {
+    json.key("position_m").begin_array(json_layout::single_line);
+    for (int i = 0; i < 3; ++i) json.value(tidy(m.position_m[i]));
+    json.end_array();
+  }
+  json.end_object();
+}
+
+point2f input_point(const perch_result& r, pixel local) {
+  return r.mask.to_input(point2f(static_cast<float>(local.x + r.mask.offset.x),
+                                 static_cast<float>(local.y + r.mask.offset.y)));
+}
+
+/// Writes an input-frame coordinate: an integer at factor 1, else a rounded float.
+void write_coordinate(json_writer& json, const perch_result& r, float v) {
+  if (r.mask.factor == 1.0f)
+    json.value(static_cast<long>(std::lround(v)));
+  else
+    json.value(std::round(v * 100.0f) / 100.0f);
+}
+
+}  // namespace
+
+std::string detect_json(const perch_result& r) {
+  json_writer json(json_style::pretty);
+  json.begin_object();
+  json.member("status", r.outcome == perch_outcome::found ? "ok" : "no_perch");
+  if (r.outcome == perch_outcome::no_tree)
+    json.member("reason", "no_tree: the mask has no tree pixel");
+  else if (r.outcome == perch_outcome::no_perch)
+    json.member("reason", "no window passed every constraint (see rejected and near_misses)");
+  json.key("image").begin_object(json_layout::single_line);
+  json.member("width", r.width).member("height", r.height).end_object();
+  json.member("mm_per_px", tidy(r.mm_per_px));
+  json.member("scale", r.scale);
+  json.member("platform", r.platform);
+  json.key("perch");
+  if (r.sites.empty())
+    json.null();
+  else
+    write_site(json, r.sites.front());
+  json.key("candidates").begin_array();
+  for (const perch_site& s : r.sites) write_site(json, s);
+  json.end_array();
+  json.key("rejected").begin_object();
+  for (const rejection_count& c : r.rejections) json.member(c.constraint, c.windows);
+  json.end_object();
+  json.key("near_misses").begin_array();
+  for (const near_miss& m : r.near_misses) {
+    if (!m.present) continue;
+    const point2f c = to_point(m.window.centre);  // input-image pixels, like the sites
+    json.begin_object(json_layout::single_line);
+    json.member("constraint", m.constraint).member("miss", tidy(m.miss)).member("unit", m.unit);
+    json.key("x");
+    write_coordinate(json, r, c.x());
+    json.key("y");
+    write_coordinate(json, r, c.y());
+    json.end_object();
+  }
+  json.end_array();
+  json.key("windows").begin_object(json_layout::single_line);
+  json.member("measured", r.windows).member("viable", r.viable).end_object();
+  json.key("graph").begin_object(json_layout::single_line);
+  json.member("nodes", r.graph.node_count()).member("edges", r.graph.branch_count());
+  json.member("components", r.graph.component_count());
+  json.end_object();
+  const stage_timings& t = r.timing;
+  json.key("timing_ms").begin_object(json_layout::single_line);
+  json.member("prepare", tidy(t.prepare_ms)).member("distance", tidy(t.distance_ms));
+  json.member("skeleton", tidy(t.skeleton_ms)).member("graph", tidy(t.graph_ms));
+  json.member("prune", tidy(t.prune_ms)).member("windows", tidy(t.windows_ms));
+  json.member("ranking", tidy(t.ranking_ms)).member("total", tidy(t.total_ms));
+  json.end_object();
+  json.end_object();
+  return std::move(json).take();
+}
+
+std::string graph_json(const perch_result& r) {
+  json_writer json(json_style::pretty);
+  json.begin_object();
+  json.member("components", r.graph.component_count());
+  json.member("mm_per_px", tidy(r.mm_per_px));
+  json.key("nodes").begin_array();
+  {
+    r.graph.for_each_node([&](const skeleton_node& n) {
+      const point2f p = input_point(r, n.position);
+      json.begin_object(json_layout::single_line);
+      json.member("id", n.id);
+      json.key("x");
+      write_coordinate(json, r, p.x());
+      json.key("y");
+      write_coordinate(json, r, p.y());
+      json.member("kind", to_string(n.kind)).member("component", n.component);
+      json.member("trunk", n.trunk);
+      json.end_object();
+    });
+  }
+  json.end_array();
+  json.key("edges").begin_array();
+  {
+    r.graph.for_each_branch([&](const skeleton_branch& b) {
+      json.begin_object();
+      json.member("id", b.id).member("from", b.from).member("to", b.to);
+      json.member("length_px", tidy(b.length_px));
+      json.member("mean_diameter_px", tidy(b.mean_diameter_px));
+      json.member("type", to_string(b.type));
+      json.key("polyline").begin_array(json_layout::single_line);
+      for (const pixel q : b.points) {
+        const point2f p = input_point(r, q);
+        json.begin_array();
+        write_coordinate(json, r, p.x());
+        write_coordinate(json, r, p.y());
+        json.end_array();
+      }
+      json.end_array();
+      json.end_object();
+    });
+  }
+  json.end_array();
+  json.end_object();
+  return std::move(json).take();
+}
+
+}  // namespace perch::tool

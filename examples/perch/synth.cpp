@@ -1,0 +1,221 @@
+// perch synth: synthetic tree masks with their ground truth (and a few hand-made shapes).
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <random>
+#include <system_error>
+
+#include "truth.hpp"
+#include "tool.hpp"
+
+namespace perch::tool {
+namespace {
+
+namespace st = support;
+
+/// What the i-th tree of a run looks like (i mod 6), so any 6 consecutive trees cover all.
+enum class tree_kind : std::uint8_t { clean, bushy, noisy, two_trees, no_perch, small };
+constexpr std::string_view kind_names[] = {"clean", "bushy", "noisy", "two-trees", "no-perch", "small"};
+
+/// [lo, hi) from mt19937's specified output (no implementation-defined distributions).
+float uniform(std::mt19937& rng, float lo, float hi) {
+  const double u = static_cast<double>(rng()) * (1.0 / 4294967296.0);
+  return lo + static_cast<float>(u * static_cast<double>(hi - lo));
+}
+
+struct synthetic {
+  truth_file truth;
+  image<std::uint8_t> mask;
+};
+
+synthetic make_synthetic(std::uint32_t seed, tree_kind kind) {
+  std::mt19937 rng(seed);
+  st::tree_options o;
+  o.seed = seed;
+  o.width = 960;
+  o.height = 720;
+  o.levels = 3;
+  o.branches_per_node = 3;
+  o.side_limbs = 1;
+  if (kind == tree_kind::bushy) {
+    o.width = 1024;
+    o.height = 768;
+    o.levels = 4;
+    o.side_limbs = 2;
+  } else if (kind == tree_kind::small) {
+    o.width = 640;
+    o.height = 480;
+  } else if (kind == tree_kind::no_perch) {
+    o.levels = 0;  // a bare trunk: 180 mm and near vertical, too thick and too steep
+    o.side_limbs = 0;
+  }
+  const int full_width = o.width;
+  if (kind == tree_kind::two_trees) o.width = full_width / 2;
+  // The trunk spans 4–6 % of the full image width.
+  o.trunk_diameter_mm = 180.0f;
+  o.mm_per_px = 180.0f / (uniform(rng, 0.04f, 0.06f) * static_cast<float>(full_width));
+  o.min_diameter_mm = uniform(rng, 14.0f, 24.0f);
+  if (kind == tree_kind::noisy) {
+    o.noise = uniform(rng, 1.5f, 3.0f);
+    o.twigs = 16 + static_cast<int>(rng() % 12u);
+    o.holes = 2;
+  }
+
+  truth_file truth;
+  truth.kind = std::string(kind_names[static_cast<int>(kind)]);
+  truth.seed = seed;
+  truth.width = full_width;
+  truth.height = o.height;
+  truth.mm_per_px = o.mm_per_px;
+  st::synthetic_tree tree = st::make_tree(o);
+  truth.limbs = std::move(tree.limbs);
+  if (kind == tree_kind::two_trees) {
+    st::tree_options o2 = o;
+    o2.seed = seed ^ 0x5bd1e995u;
+    st::synthetic_tree second = st::make_tree(o2);
+    image<std::uint8_t> mask(full_width, o.height, 0);
+    for (int y = 0; y < o.height; ++y)
+      for (int x = 0; x < o.width; ++x) {
+        mask(x, y) = tree.mask(x, y);
+        mask(x + o.width, y) = second.mask(x, y);
+      }
+    const auto first_count = static_cast<int>(truth.limbs.size());
+    for (st::limb_truth limb : second.limbs) {
+      for (Eigen::Vector2f& p : limb.centreline) p.x() += static_cast<float>(o.width);
+      if (limb.parent >= 0) limb.parent += first_count;
+      truth.limbs.push_back(std::move(limb));
+    }
+    tree.mask = std::move(mask);
+  }
+  return {std::move(truth), std::move(tree.mask)};
+}
+
+/// Re-draws the mask of `truth` (every limb as tapered capsules), as make_tree does.
+image<std::uint8_t> draw_truth(const truth_file& truth) {
+  image<std::uint8_t> mask(truth.width, truth.height, 0);
+  for (const st::limb_truth& limb : truth.limbs) {
+    std::vector<float> radii(limb.diameter_px.size());
+    for (std::size_t i = 0; i < radii.size(); ++i) radii[i] = 0.5f * limb.diameter_px[i];
+    st::draw_polyline(mask.view(), limb.centreline, radii);
+  }
+  return mask;
+}
+
+/// A straight limb from `a` to `b`, diameters `da` → `db` px.
+st::limb_truth straight(Eigen::Vector2f a, Eigen::Vector2f b, float da, float db, int parent, int level) {
+  st::limb_truth limb;
+  limb.kind = parent < 0 ? st::limb_kind::trunk : st::limb_kind::limb;
+  limb.parent = parent;
+  limb.level = level;
+  limb.centreline = {a, b};
+  limb.diameter_px = {da, db};
+  limb.arc_px = {0.0f, (b - a).norm()};
+  limb.base_heading_rad = std::atan2(b.x() - a.x(), a.y() - b.y());
+  limb.curvature_per_px = 0;
+  return limb;
+}
+
+/// The hand-made shapes (3 mm/px, so the 60 px trunk is the 180 mm of the trunk prior):
+/// one near-level limb; a Y with one steep and one feasible arm; steep limbs only (no perch).
+std::vector<std::pair<std::string, truth_file>> make_shapes() {
+  std::vector<std::pair<std::string, truth_file>> out;
+  auto base = [](std::string kind) {
+    truth_file t;
+    t.kind = std::move(kind);
+    t.width = 800;
+    t.height = 600;
+    t.mm_per_px = 3.0f;
+    return t;
+  };
+  {
+    truth_file t = base("shape-limb");
+    t.limbs.push_back(straight({300, 629}, {300, 140}, 60, 44, -1, 0));
+    t.limbs.push_back(straight({300, 330}, {740, 306}, 24, 16, 0, 1));
+    out.emplace_back("shape-limb", std::move(t));
+  }
+  {
+    truth_file t = base("shape-y");
+    t.limbs.push_back(straight({400, 629}, {400, 380}, 60, 50, -1, 0));
+    t.limbs.push_back(straight({400, 380}, {180, 110}, 36, 22, 0, 1));
+    t.limbs.push_back(straight({400, 380}, {740, 240}, 34, 22, 0, 1));
+    out.emplace_back("shape-y", std::move(t));
+  }
+  {
+    truth_file t = base("shape-steep");
+    t.limbs.push_back(straight({420, 629}, {430, 60}, 60, 40, -1, 0));
+    t.limbs.push_back(straight({425, 420}, {230, 120}, 26, 16, 0, 1));
+    t.limbs.push_back(straight({428, 300}, {610, 40}, 24, 14, 0, 1));
+    out.emplace_back("shape-steep", std::move(t));
+  }
+  return out;
+}
+
+std::string write_pair(const std::filesystem::path& dir, const std::string& name, const truth_file& truth,
+                       const image<std::uint8_t>& mask) {
+  image<std::uint8_t> png_mask(mask.width(), mask.height(), 0);
+  for (int y = 0; y < mask.height(); ++y)
+    for (int x = 0; x < mask.width(); ++x) png_mask(x, y) = mask(x, y) != 0 ? 255 : 0;
+  const png::write_options options{.filter = png::filter_choice::minimum_sum, .compression_level = 9};
+  const png::png_status written =
+      png::write_png(dir / (name + ".png"), image_view<const std::uint8_t>(png_mask.view()), options);
+  if (!written) return written.error().message;
+  return write_text(dir / (name + ".truth.json"), truth_json(truth));
+}
+
+}  // namespace
+
+int run_synth(int argc, const char* const* argv) {
+  support::arg_parser args("perch synth",
+                           "Writes synthetic tree masks (OUT/synth-SEED.png, 255 = tree) with their ground\n"
+                           "truth (OUT/synth-SEED.truth.json) for perch eval. Tree i of the run has seed\n"
+                           "SEED + i and kind i mod 6: clean, bushy, noisy (outline noise, twigs, holes),\n"
+                           "two-trees, no-perch (a bare trunk), small (640x480).");
+  args.add_option("seed", "S", "seed of the first tree", "1");
+  args.add_option("count", "N", "number of trees", "6");
+  args.add_option("out", "DIR", "output directory (created if missing)");
+  args.add_flag("shapes", "also write the hand-made shapes shape-limb, shape-y, shape-steep");
+  args.set_epilog("Example (the sample data): perch synth --seed 1 --count 6 --shapes --out examples/data");
+  int exit = exit_ok;
+  if (!parse_or_exit(args, argc, argv, "synth", exit)) return exit;
+  const auto seed = args.get_integer<std::uint32_t>("seed", 1u, 0u, 0xFFFFFFF0u);
+  const auto count = args.get_int("count", 6, 0, 100000);
+  for (const std::string* e : {&seed.error, &count.error})
+    if (!e->empty()) {
+      report_error("synth", *e);
+      return exit_usage;
+    }
+  if (!args.has("out")) {
+    report_error("synth", "missing option --out DIR");
+    return exit_usage;
+  }
+  const std::filesystem::path dir(std::string(*args.value("out")));
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir, ec)) {
+    report_error("synth", "cannot create " + dir.string());
+    return exit_usage;
+  }
+  for (int i = 0; i < count.value; ++i) {
+    const std::uint32_t s = seed.value + static_cast<std::uint32_t>(i);
+    const synthetic made = make_synthetic(s, static_cast<tree_kind>(i % 6));
+    const truth_file& truth = made.truth;
+    const std::string name = "synth-" + std::to_string(s);
+    if (const std::string e = write_pair(dir, name, truth, made.mask); !e.empty()) {
+      report_error("synth", e);
+      return exit_internal;
+    }
+    std::printf("%s  %s\n", name.c_str(), truth.kind.c_str());
+  }
+  if (args.flag("shapes")) {
+    for (const auto& [name, truth] : make_shapes()) {
+      if (const std::string e = write_pair(dir, name, truth, draw_truth(truth)); !e.empty()) {
+        report_error("synth", e);
+        return exit_internal;
+      }
+      std::printf("%s  %s\n", name.c_str(), truth.kind.c_str());
+    }
+  }
+  return exit_ok;
+}
+
+}  // namespace perch::tool

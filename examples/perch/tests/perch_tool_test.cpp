@@ -1,0 +1,406 @@
+// Tests of the perch tool: runs the built program on the sample data and checks exit codes,
+// the JSON documents (parsed, fields present) and the pictures (decoded, input's size).
+#define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
+#include <doctest/doctest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "json_reader.hpp"
+#include "png/png.hpp"
+
+namespace fs = std::filesystem;
+using perch::tool::json_value;
+
+namespace {
+
+const fs::path tool = PERCH_TOOL;
+const fs::path data = PERCH_SAMPLE_DATA;
+
+struct run_result {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string read_file(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::stringstream buffer;
+  buffer << file.rdbuf();
+  return buffer.str();
+}
+
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (const char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+/// A fresh directory for one test case.
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::path(PERCH_TEST_DIR) / name;
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  fs::create_directories(dir, ec);
+  return dir;
+}
+
+/// Runs `perch ARGS...` with stdout and stderr captured.
+run_result run_perch(const std::vector<std::string>& args, const fs::path& dir) {
+  std::string command = quote(tool.string());
+  for (const std::string& a : args) command += " " + quote(a);
+  const fs::path out = dir / "stdout.txt";
+  const fs::path err = dir / "stderr.txt";
+  command += " > " + quote(out.string()) + " 2> " + quote(err.string());
+  const int status = std::system(command.c_str());
+  run_result r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = read_file(out);
+  r.err = read_file(err);
+  return r;
+}
+
+json_value parse(const std::string& text) {
+  std::string error;
+  const auto doc = perch::tool::parse_json(text, error);
+  REQUIRE_MESSAGE(doc.has_value(), error << "\n" << text);
+  return *doc;
+}
+
+const json_value& member(const json_value& v, const char* key) {
+  const json_value* m = v.find(key);
+  REQUIRE_MESSAGE(m != nullptr, "missing member " << key);
+  return *m;
+}
+
+void check_site(const json_value& site) {
+  REQUIRE(site.is_object());
+  for (const char* key : {"x", "y", "slope_deg", "diameter_mm", "curvature_per_mm", "penalty", "branch",
+                          "component"})
+    CHECK_MESSAGE(member(site, key).is_number(), key);
+}
+
+/// Checks the detect document's shape (issue 6) and returns it.
+json_value check_detect(const std::string& text, int width, int height) {
+  json_value doc = parse(text);
+  const std::string status = member(doc, "status").text;
+  CHECK((status == "ok" || status == "no_perch"));
+  CHECK(member(member(doc, "image"), "width").number == width);
+  CHECK(member(member(doc, "image"), "height").number == height);
+  const bool no_tree = doc.find("reason") != nullptr && member(doc, "reason").text.starts_with("no_tree");
+  CHECK(member(doc, "mm_per_px").number >= 0);
+  if (!no_tree) CHECK(member(doc, "mm_per_px").number > 0);
+  CHECK(member(doc, "platform").is_string());
+  const json_value& best = member(doc, "perch");
+  if (status == "ok") {
+    check_site(best);
+    CHECK(!member(doc, "candidates").items.empty());
+  } else {
+    CHECK(best.kind == json_value::type::null);
+    CHECK(member(doc, "reason").is_string());
+  }
+  for (const json_value& c : member(doc, "candidates").items) check_site(c);
+  CHECK(member(doc, "rejected").is_object());
+  for (const char* key : {"nodes", "edges", "components"}) CHECK(member(member(doc, "graph"), key).is_number());
+  CHECK(member(member(doc, "timing_ms"), "total").is_number());
+  return doc;
+}
+
+perch::png::decoded_png decode(const fs::path& path) {
+  auto png = perch::png::read_png_file(path);
+  REQUIRE_MESSAGE(png.has_value(), path.string() << ": " << (png ? std::string() : png.error().message));
+  return std::move(*png);
+}
+
+}  // namespace
+
+TEST_CASE("detect: JSON of the issue's shape on stdout, exit 0") {
+  const fs::path dir = scratch("detect");
+  const run_result r = run_perch({"detect", (data / "shape-limb.png").string()}, dir);
+  REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+  const json_value doc = check_detect(r.out, 800, 600);
+  CHECK(member(doc, "status").text == "ok");
+  CHECK(member(doc, "platform").text == "tendon-claw");
+  CHECK(member(member(doc, "timing_ms"), "total").number > 0);
+  const json_value& best = member(doc, "perch");
+  CHECK(member(best, "diameter_mm").number >= 30);
+  CHECK(member(best, "diameter_mm").number <= 110);
+  CHECK(member(best, "slope_deg").number <= 35);
+}
+
+TEST_CASE("detect: no perch is a result with exit 0") {
+  const fs::path dir = scratch("detect_no_perch");
+  const run_result r = run_perch({"detect", (data / "synth-5.png").string(), "--no-timing"}, dir);
+  REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+  const json_value doc = check_detect(r.out, 960, 720);
+  CHECK(member(doc, "status").text == "no_perch");
+  CHECK(member(member(doc, "timing_ms"), "total").number == 0);
+}
+
+TEST_CASE("detect: an empty mask is no_perch with reason no_tree") {
+  const fs::path dir = scratch("detect_empty");
+  perch::image<std::uint8_t> empty(64, 48, 0);
+  REQUIRE(perch::png::write_png(dir / "empty.png", perch::image_view<const std::uint8_t>(empty.view())).has_value());
+  const run_result r = run_perch({"detect", (dir / "empty.png").string()}, dir);
+  REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+  const json_value doc = check_detect(r.out, 64, 48);
+  CHECK(member(doc, "status").text == "no_perch");
+  CHECK(member(doc, "reason").text.starts_with("no_tree"));
+}
+
+TEST_CASE("detect: --annotate writes a picture of the input's size; --json writes the file") {
+  const fs::path dir = scratch("detect_annotate");
+  for (const char* name : {"synth-1.png", "synth-5.png"}) {
+    const fs::path input = data / name;
+    const perch::png::decoded_png mask = decode(input);
+    const fs::path picture = dir / (std::string(name) + ".annotated.png");
+    const fs::path json = dir / (std::string(name) + ".json");
+    const run_result r = run_perch({"detect", input.string(), "--annotate", picture.string(), "--json", json.string()}, dir);
+    REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+    CHECK(r.out.empty());
+    check_detect(read_file(json), static_cast<int>(mask.width), static_cast<int>(mask.height));
+    const perch::png::decoded_png out = decode(picture);
+    CHECK(out.width == mask.width);
+    CHECK(out.height == mask.height);
+    CHECK(out.channels == 3);
+  }
+}
+
+TEST_CASE("detect: every platform, scale and option") {
+  const fs::path dir = scratch("detect_options");
+  const std::string mask = (data / "shape-y.png").string();
+  for (const char* platform : {"tendon-claw", "tensile-tether", "metamorphic", "ornithopter", "treecreeper"}) {
+    const run_result r = run_perch({"detect", mask, "--platform", platform}, dir);
+    REQUIRE_MESSAGE(r.exit_code == 0, platform << ": " << r.err);
+    CHECK(member(check_detect(r.out, 800, 600), "platform").text == platform);
+  }
+  const std::vector<std::vector<std::string>> variants = {
+      {"--mm-per-px", "3"}, {"--trunk-mm", "200"}, {"--roll-deg", "-10"}, {"--top", "2"},
+      {"--downscale", "0.5"}};
+  for (const auto& v : variants) {
+    std::vector<std::string> args = {"detect", mask};
+    args.insert(args.end(), v.begin(), v.end());
+    const run_result r = run_perch(args, dir);
+    REQUIRE_MESSAGE(r.exit_code == 0, v[0] << ": " << r.err);
+    const json_value doc = check_detect(r.out, 800, 600);
+    if (v[0] == "--top") CHECK(member(doc, "candidates").items.size() <= 2);
+    if (v[0] == "--mm-per-px") CHECK(member(doc, "mm_per_px").number == doctest::Approx(3.0));
+  }
+  // Depth: a constant 16-bit depth of 3000 mm with f = 1000 px gives 3 mm/px.
+  perch::image<std::uint16_t> depth(800, 600, 3000);
+  REQUIRE(perch::png::write_png(dir / "depth.png", perch::image_view<const std::uint16_t>(depth.view())).has_value());
+  const run_result r = run_perch({"detect", mask, "--depth", (dir / "depth.png").string(), "--fx", "1000", "--fy",
+                              "1000", "--cx", "400", "--cy", "300"},
+                             dir);
+  REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+  const json_value doc = check_detect(r.out, 800, 600);
+  CHECK(member(doc, "mm_per_px").number == doctest::Approx(3.0));
+  CHECK(member(doc, "scale").text == "depth");
+}
+
+TEST_CASE("detect: the same input gives byte-identical JSON") {
+  const fs::path dir = scratch("detect_repeat");
+  const std::string mask = (data / "synth-3.png").string();
+  const run_result a = run_perch({"detect", mask, "--no-timing"}, dir);
+  const run_result b = run_perch({"detect", mask, "--no-timing"}, dir);
+  REQUIRE(a.exit_code == 0);
+  CHECK(a.out == b.out);
+}
+
+TEST_CASE("bad arguments and unreadable input exit 2 with a message on stderr") {
+  const fs::path dir = scratch("bad_arguments");
+  std::ofstream(dir / "corrupt.png", std::ios::binary) << "\x89PNG\r\n\x1a\n this is not a png";
+  const std::string mask = (data / "shape-limb.png").string();
+  const std::vector<std::vector<std::string>> cases = {
+      {},
+      {"frobnicate"},
+      {"detect"},
+      {"detect", mask, "--tpo", "3"},
+      {"detect", mask, "--top", "0"},
+      {"detect", mask, "--top", "abc"},
+      {"detect", mask, "--platform", "helicopter"},
+      {"detect", mask, "--mm-per-px", "-1"},
+      {"detect", mask, "--mm-per-px", "2", "--trunk-mm", "180"},
+      {"detect", mask, "--downscale", "2"},
+      {"detect", mask, "--roll-deg", "nan"},
+      {"detect", mask, "--depth", (dir / "missing.png").string(), "--fx", "1", "--fy", "1", "--cx", "0", "--cy", "0"},
+      {"detect", mask, "--fx", "1000"},
+      {"detect", (dir / "missing.png").string()},
+      {"detect", (dir / "corrupt.png").string()},
+      {"detect", mask, "--image", (dir / "corrupt.png").string(), "--annotate", (dir / "a.png").string()},
+      {"detect", mask, "extra.png"},
+      {"batch", (dir / "no-such-dir").string(), "--out", (dir / "out").string()},
+      {"batch", data.string()},
+      {"batch", data.string(), "--out", (dir / "out").string(), "--jobs", "-1"},
+      {"skeleton", mask},
+      {"skeleton", mask, "--out", (dir / "s.png").string(), "--method", "voronoi"},
+      {"graph", (dir / "corrupt.png").string()},
+      {"synth", "--count", "2"},
+      {"synth", "--out", (dir / "s").string(), "--count", "x"},
+      {"eval", (dir / "no-such-dir").string()},
+      {"eval", dir.string()},
+  };
+  for (const auto& args : cases) {
+    std::string shown;
+    for (const auto& a : args) shown += a + " ";
+    const run_result r = run_perch(args, dir);
+    CHECK_MESSAGE(r.exit_code == 2, shown << "-> " << r.exit_code);
+    CHECK_MESSAGE(!r.err.empty(), shown);
+  }
+}
+
+TEST_CASE("every subcommand has --help (exit 0, usage on stdout)") {
+  const fs::path dir = scratch("help");
+  for (const char* command : {"detect", "batch", "skeleton", "graph", "synth", "eval"}) {
+    const run_result r = run_perch({command, "--help"}, dir);
+    CHECK(r.exit_code == 0);
+    CHECK_MESSAGE(r.out.find(std::string("usage: perch ") + command) != std::string::npos, command);
+  }
+  const run_result r = run_perch({"--help"}, dir);
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.find("commands:") != std::string::npos);
+}
+
+TEST_CASE("batch: a corrupt PNG is reported and skipped, the batch goes on") {
+  const fs::path dir = scratch("batch_corrupt");
+  const fs::path in = dir / "in";
+  fs::create_directories(in);
+  fs::copy_file(data / "shape-limb.png", in / "a.png");
+  fs::copy_file(data / "synth-5.png", in / "c.png");
+  std::ofstream(in / "b.png", std::ios::binary) << "\x89PNG\r\n\x1a\n truncated";
+  std::ofstream(in / "notes.txt") << "not an image";
+  const run_result r = run_perch({"batch", in.string(), "--out", (dir / "out").string(), "--jobs", "2", "--annotate"}, dir);
+  REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+  CHECK(r.err.find("b.png") != std::string::npos);
+  CHECK(fs::exists(dir / "out" / "a.json"));
+  CHECK(fs::exists(dir / "out" / "c.json"));
+  CHECK(!fs::exists(dir / "out" / "b.json"));
+  check_detect(read_file(dir / "out" / "a.json"), 800, 600);
+  const perch::png::decoded_png picture = decode(dir / "out" / "a.annotated.png");
+  CHECK(picture.width == 800);
+  CHECK(picture.height == 600);
+  CHECK(r.out.find("no_perch") != std::string::npos);
+  CHECK(r.out.find("median") != std::string::npos);
+}
+
+TEST_CASE("batch: byte-identical JSON and pictures with --jobs 1 and --jobs 2") {
+  const fs::path dir = scratch("batch_determinism");
+  const run_result one = run_perch({"batch", data.string(), "--out", (dir / "one").string(), "--jobs", "1", "--no-timing",
+                                "--annotate", "--quiet"},
+                               dir);
+  REQUIRE_MESSAGE(one.exit_code == 0, one.err);
+  const run_result two = run_perch({"batch", data.string(), "--out", (dir / "two").string(), "--jobs", "2", "--no-timing",
+                                "--annotate", "--quiet"},
+                               dir);
+  REQUIRE_MESSAGE(two.exit_code == 0, two.err);
+  std::size_t compared = 0;
+  for (const auto& entry : fs::directory_iterator(dir / "one")) {
+    const fs::path other = dir / "two" / entry.path().filename();
+    REQUIRE(fs::exists(other));
+    CHECK_MESSAGE(read_file(entry.path()) == read_file(other), entry.path().filename().string());
+    ++compared;
+  }
+  CHECK(compared >= 2 * 9);
+}
+
+TEST_CASE("skeleton: every method writes the skeleton and the radius PNGs at the input's size") {
+  const fs::path dir = scratch("skeleton");
+  for (const char* method : {"medial-axis", "zhang-suen", "guo-hall"}) {
+    const fs::path skel = dir / (std::string(method) + ".png");
+    const fs::path radius = dir / (std::string(method) + ".radius.png");
+    const run_result r = run_perch({"skeleton", (data / "synth-6.png").string(), "--method", method, "--out",
+                                skel.string(), "--radius-out", radius.string()},
+                               dir);
+    REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+    const json_value doc = parse(r.out);
+    CHECK(member(doc, "skeleton_pixels").number > 100);
+    CHECK(member(doc, "radius_scale").number == 16);
+    const perch::png::decoded_png s = decode(skel);
+    const perch::png::decoded_png q = decode(radius);
+    CHECK(s.width == 640);
+    CHECK(s.height == 480);
+    CHECK(s.bit_depth == 8);
+    CHECK(q.width == 640);
+    CHECK(q.bit_depth == 16);
+    // Radii sit exactly on the skeleton.
+    REQUIRE(s.samples8.size() == q.samples16.size());
+    std::size_t on = 0;
+    std::size_t mismatched = 0;
+    for (std::size_t i = 0; i < s.samples8.size(); ++i) {
+      mismatched += (s.samples8[i] != 0) != (q.samples16[i] != 0) ? 1u : 0u;
+      on += s.samples8[i] != 0 ? 1u : 0u;
+    }
+    CHECK(mismatched == 0);
+    CHECK(static_cast<double>(on) == member(doc, "skeleton_pixels").number);
+  }
+}
+
+TEST_CASE("graph: nodes and edges of the issue's shape, edges between listed nodes") {
+  const fs::path dir = scratch("graph");
+  const run_result r = run_perch({"graph", (data / "synth-4.png").string(), "--json", (dir / "g.json").string()}, dir);
+  REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+  const json_value doc = parse(read_file(dir / "g.json"));
+  CHECK(member(doc, "components").number >= 2);  // two trees
+  std::vector<double> ids;
+  for (const json_value& n : member(doc, "nodes").items) {
+    for (const char* key : {"id", "x", "y", "component"}) CHECK(member(n, key).is_number());
+    const std::string kind = member(n, "kind").text;
+    CHECK((kind == "junction" || kind == "end" || kind == "isolated" || kind == "loop"));
+    ids.push_back(member(n, "id").number);
+  }
+  REQUIRE(!member(doc, "edges").items.empty());
+  for (const json_value& e : member(doc, "edges").items) {
+    for (const char* key : {"id", "from", "to", "length_px", "mean_diameter_px"}) CHECK(member(e, key).is_number());
+    CHECK(member(e, "type").is_string());
+    CHECK(std::find(ids.begin(), ids.end(), member(e, "from").number) != ids.end());
+    CHECK(std::find(ids.begin(), ids.end(), member(e, "to").number) != ids.end());
+    const json_value& polyline = member(e, "polyline");
+    REQUIRE(!polyline.items.empty());
+    CHECK(polyline.items.front().items.size() == 2);
+  }
+}
+
+TEST_CASE("synth and eval: truth files, the four outcomes, a success rate") {
+  const fs::path dir = scratch("synth_eval");
+  const fs::path trees = dir / "trees";
+  const run_result s = run_perch({"synth", "--seed", "40", "--count", "6", "--shapes", "--out", trees.string()}, dir);
+  REQUIRE_MESSAGE(s.exit_code == 0, s.err);
+  std::size_t masks = 0;
+  for (const auto& entry : fs::directory_iterator(trees)) {
+    if (entry.path().extension() != ".png") continue;
+    ++masks;
+    fs::path truth = entry.path();
+    truth.replace_extension(".truth.json");
+    REQUIRE(fs::exists(truth));
+    const json_value doc = parse(read_file(truth));
+    CHECK(!member(doc, "limbs").items.empty());
+    const perch::png::decoded_png mask = decode(entry.path());
+    CHECK(mask.width == member(doc, "width").number);
+  }
+  CHECK(masks == 9);
+  // The same seed gives the same bytes.
+  const run_result again = run_perch({"synth", "--seed", "40", "--count", "1", "--out", (dir / "again").string()}, dir);
+  REQUIRE(again.exit_code == 0);
+  CHECK(read_file(dir / "again" / "synth-40.png") == read_file(trees / "synth-40.png"));
+
+  const run_result e = run_perch({"eval", trees.string(), "--known-scale", "--json", (dir / "eval.json").string()}, dir);
+  REQUIRE_MESSAGE(e.exit_code == 0, e.err);
+  CHECK(e.out.find("success rate") != std::string::npos);
+  const json_value doc = parse(read_file(dir / "eval.json"));
+  CHECK(member(doc, "images").number == 9);
+  double sum = 0;
+  for (const auto& [key, value] : member(doc, "outcomes").members) sum += value.number;
+  CHECK(sum == 9);
+  const double rate = member(doc, "success_rate").number;
+  CHECK(rate >= 0.0);
+  CHECK(rate <= 1.0);
+  // The bare trunk (kind no-perch) has no feasible perch: a correct "no result".
+  for (const json_value& row : member(doc, "results").items)
+    if (member(row, "kind").text == "no-perch") CHECK(member(row, "outcome").text == "correctly_no_result");
+}

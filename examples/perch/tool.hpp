@@ -1,0 +1,151 @@
+/// \file
+/// What the perch tool's subcommands share: exit codes, the pipeline options every analysing
+/// subcommand takes (platform, scale, roll, top-k, downscale), loading masks, and `analyse`,
+/// which runs `find_perch` once and turns its result into JSON and pictures while the
+/// workspace still holds it. Host code: std::string, std::vector, files; no exceptions thrown.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "perch/core/image.hpp"
+#include "perch/pli.hpp"
+#include "png/png.hpp"
+#include "support/args.hpp"
+
+namespace perch::tool {
+
+/// Exit codes of every subcommand.
+inline constexpr int exit_ok = 0;        ///< success, including "no perch found"
+inline constexpr int exit_internal = 1;  ///< internal failure (out of memory, cannot write)
+inline constexpr int exit_usage = 2;     ///< bad arguments or unreadable input
+
+/// The five platforms, by their command-line names.
+enum class platform_id : std::uint8_t { tendon_claw, tensile_tether, metamorphic, ornithopter, treecreeper };
+inline constexpr std::array<std::string_view, 5> platform_names = {
+    "tendon-claw", "tensile-tether", "metamorphic", "ornithopter", "treecreeper"};
+
+/// Calls `f(platform)` with a default-constructed value of the platform type `id` names.
+/// Every branch must return the same type.
+template <class F>
+decltype(auto) visit_platform(platform_id id, F&& f) {
+  switch (id) {
+    case platform_id::tensile_tether:
+      return f(tensile_tether{});
+    case platform_id::metamorphic:
+      return f(metamorphic_quadrotor{});
+    case platform_id::ornithopter:
+      return f(ornithopter{});
+    case platform_id::treecreeper:
+      return f(treecreeper{});
+    case platform_id::tendon_claw:
+      break;
+  }
+  return f(tendon_claw{});
+}
+
+/// The graspable diameters and slope limits a platform's constraints declare (for `eval`).
+struct platform_limits {
+  float diameter_min_mm = 0;
+  float diameter_max_mm = 1e9f;
+  float slope_min_deg = 0;
+  float slope_max_deg = 90;
+  float drone_width_mm = 0;
+  float claw_width_mm = 0;
+};
+[[nodiscard]] platform_limits limits_of(platform_id id);
+
+/// How the tool gets the scale.
+enum class scale_kind : std::uint8_t { trunk_prior, fixed, depth };
+
+struct scale_config {
+  scale_kind kind = scale_kind::trunk_prior;
+  float mm_per_px = 0;          ///< --mm-per-px
+  float trunk_mm = 180.0f;      ///< --trunk-mm
+  std::optional<image<std::uint16_t>> depth_mm;  ///< --depth (millimetres, 0 invalid)
+  pinhole intrinsics{};         ///< --fx --fy --cx --cy
+};
+
+/// The options of one analysis (detect, batch, graph, eval).
+struct run_config {
+  platform_id platform = platform_id::tendon_claw;
+  scale_config scale{};
+  float roll_deg = 0;
+  std::size_t top_k = 5;
+  float downscale = 1.0f;
+  bool timing = true;  ///< false (--no-timing): timing_ms all 0, output byte-deterministic
+};
+
+/// Which pipeline options `add_pipeline_options` declares.
+enum class depth_option : std::uint8_t { offered, not_offered };
+
+/// Declares --platform, --mm-per-px, --trunk-mm, [--depth --fx --fy --cx --cy], --roll-deg,
+/// --top, --downscale, --no-timing.
+void add_pipeline_options(support::arg_parser& args, depth_option depth);
+
+/// Reads the options declared by `add_pipeline_options` (and loads --depth). Returns an error
+/// message (empty on success).
+[[nodiscard]] std::string read_pipeline_options(const support::arg_parser& args, depth_option depth,
+                                                run_config& config);
+
+/// Reads a PNG mask (any non-zero sample is tree). Returns an error message (empty on success).
+[[nodiscard]] std::string load_mask(const std::filesystem::path& path, image<std::uint8_t>& mask);
+
+/// What `analyse` should produce.
+struct analysis_request {
+  const image<std::uint8_t>* mask = nullptr;
+  const image<png::rgb8>* photo = nullptr;  ///< background for the picture (mask when null)
+  bool detect_json = true;
+  bool annotation = false;
+  bool graph_json = false;
+};
+
+/// What `analyse` produced.
+struct analysis_output {
+  int exit_code = exit_ok;  ///< exit_ok, or exit_usage / exit_internal with `error`
+  std::string error;
+  perch_outcome outcome = perch_outcome::no_tree;
+  std::vector<perch_site> sites;  ///< copies, input-image pixels
+  float mm_per_px = 0;
+  float total_ms = 0;
+  std::string detect_json;
+  std::string graph_json;
+  std::optional<image<png::rgb8>> annotated;
+};
+
+/// Runs `find_perch` on `request.mask` with `config`, and writes what `request` asks for.
+/// Library errors become `exit_usage` (bad input or options) or `exit_internal` (memory).
+[[nodiscard]] analysis_output analyse(const analysis_request& request, const run_config& config,
+                                      workspace& ws);
+
+/// "message (detail)" of a library error.
+[[nodiscard]] std::string describe(const error& e);
+/// exit_internal for resource errors, exit_usage for everything else (bad input).
+[[nodiscard]] int exit_code_for(const error& e);
+
+/// Writes `text` to `path` (or stdout when `path` is empty). Returns an error message.
+[[nodiscard]] std::string write_text(const std::filesystem::path& path, std::string_view text);
+
+/// Prints "perch <command>: <message>" to stderr.
+void report_error(std::string_view command, std::string_view message);
+
+/// Parses `args` for `command`; prints help (returns exit_ok in `exit`) or the error.
+/// Returns true when the caller should go on.
+[[nodiscard]] bool parse_or_exit(support::arg_parser& args, int argc, const char* const* argv,
+                                 std::string_view command, int& exit);
+
+// The subcommands: argv[0] = "perch", argv[1] = the command.
+int run_detect(int argc, const char* const* argv);
+int run_batch(int argc, const char* const* argv);
+int run_skeleton(int argc, const char* const* argv);
+int run_graph(int argc, const char* const* argv);
+int run_synth(int argc, const char* const* argv);
+int run_eval(int argc, const char* const* argv);
+
+}  // namespace perch::tool
