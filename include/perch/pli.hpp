@@ -402,27 +402,25 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   out.timing.graph_ms = clock.lap();
 
   // 4. Scale (from the skeleton: its widest point, or its depth), weighting and pruning.
-  std::uint32_t max_d2 = 0;
-  std::size_t skeleton_count = 0;
-  for (int y = 1; y + 1 < h; ++y) {
-    const std::uint8_t* s = &skeleton(0, y);
-    const std::uint32_t* d = &dist(0, y);
-    for (int x = 1; x + 1 < w; ++x)
-      if (s[x] != 0) {
-        max_d2 = std::max(max_d2, d[x]);
-        ++skeleton_count;
-      }
-  }
-  auto sample = ws.allocate<pixel>(skeleton_count);
-  auto scratch = ws.allocate<float>(skeleton_count);
+  // The skeleton's pixels and widest radius, read off the graph (not the image).
+  auto sample = ws.allocate<pixel>(graph.skeleton_pixels());
+  auto scratch = ws.allocate<float>(graph.skeleton_pixels());
   if (!sample) return unexpected{sample.error()};
   if (!scratch) return unexpected{scratch.error()};
   std::size_t k = 0;
-  for (int y = 1; y + 1 < h; ++y)
-    for (int x = 1; x + 1 < w; ++x)
-      if (skeleton(x, y) != 0) (*sample)[k++] = pixel{x, y};
-  context.max_distance_px = std::sqrt(static_cast<float>(max_d2));
-  context.sample = *sample;
+  float max_radius = 0;
+  graph.for_each_branch([&](const skeleton_branch& b) {
+    for (std::size_t i = 0; i < b.points.size() && k < sample->size(); ++i) {
+      (*sample)[k++] = b.points[i];
+      max_radius = std::max(max_radius, b.radius_px[i]);
+    }
+  });
+  graph.for_each_node([&](const skeleton_node& node) {
+    max_radius = std::max(max_radius, node.radius_px);
+    if (node.pixel_count > 0 && k < sample->size()) (*sample)[k++] = node.position;
+  });
+  context.max_distance_px = max_radius;
+  context.sample = sample->first(k);
   context.scratch = *scratch;
   auto global = scaled->global_mm_per_px(context);
   if (!global) return unexpected{global.error()};
