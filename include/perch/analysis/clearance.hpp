@@ -178,17 +178,24 @@ class window_context {
   [[nodiscard]] region_share count(const convex_region& r, float reach) const noexcept {
     return count(r, reach, centre_);
   }
+  /// Column of the first (`std::ceil`) or last (`std::floor`) pixel centre of an interval end,
+  /// clamped to [0, width - 1] in float first: an unbounded end (±1e30) must never reach the
+  /// float-to-int conversion, which is undefined out of range.
+  [[nodiscard]] int column(float v) const noexcept {
+    return static_cast<int>(std::clamp(v, -1.0f, static_cast<float>(tree_->width())));
+  }
   [[nodiscard]] region_share count(const convex_region& r, float reach,
                                    point2f middle) const noexcept {
     region_share out;
     const float strip = own_radius_px_ + 1.5f;
-    const int y0 = std::max(0, static_cast<int>(std::floor(middle.y() - reach)));
-    const int y1 = std::min(tree_->height() - 1, static_cast<int>(std::ceil(middle.y() + reach)));
+    const float h = static_cast<float>(tree_->height());
+    const int y0 = static_cast<int>(std::clamp(std::floor(middle.y() - reach), 0.0f, h));
+    const int y1 = static_cast<int>(std::clamp(std::ceil(middle.y() + reach), -1.0f, h - 1));
     for (int y = y0; y <= y1; ++y) {
       float fx0 = 0, fx1 = 0;
       if (!r.row_interval(y, fx0, fx1)) continue;
-      const int x0 = std::max(0, static_cast<int>(std::ceil(fx0)));
-      const int x1 = std::min(tree_->width() - 1, static_cast<int>(std::floor(fx1)));
+      const int x0 = std::max(0, column(std::ceil(fx0)));
+      const int x1 = std::min(tree_->width() - 1, column(std::floor(fx1)));
       if (x1 < x0) continue;
       // The own-branch strip on this row, as an interval to leave out.
       convex_region own;
@@ -197,8 +204,8 @@ class window_context {
       float sx0 = 0, sx1 = 0;
       int ox0 = 1, ox1 = 0;  // empty
       if (own.row_interval(y, sx0, sx1)) {
-        ox0 = std::max(x0, static_cast<int>(std::ceil(sx0)));
-        ox1 = std::min(x1, static_cast<int>(std::floor(sx1)));
+        ox0 = std::max(x0, column(std::ceil(sx0)));
+        ox1 = std::min(x1, column(std::floor(sx1)));
       }
       const auto span_all = static_cast<std::uint32_t>(x1 - x0 + 1);
       std::uint32_t tree = tree_->count(y, x0, x1);
