@@ -53,10 +53,12 @@ void find_perch_on_tree(benchmark::State& state) {
     return;
   }
   perch::stage_timings sum{};
-  const long long allocations_before = g_allocations.load();
+  long long allocations = 0;  // inside find_perch only: the framework's own loop allocates
   std::size_t sites = 0;
   for (auto _ : state) {
+    const long long before = g_allocations.load(std::memory_order_relaxed);
     auto found = perch::find_perch(tree.mask.view(), Platform{}, scale, ws, options);
+    allocations += g_allocations.load(std::memory_order_relaxed) - before;
     benchmark::DoNotOptimize(found);
     const perch::stage_timings& t = found->timing;
     sum.prepare_ms += t.prepare_ms;
@@ -78,7 +80,7 @@ void find_perch_on_tree(benchmark::State& state) {
   state.counters["windows_ms"] = avg(sum.windows_ms);
   state.counters["ranking_ms"] = avg(sum.ranking_ms);
   state.counters["allocs/iter"] =
-      benchmark::Counter(static_cast<double>(g_allocations.load() - allocations_before) / n);
+      benchmark::Counter(static_cast<double>(allocations) / n);
   state.counters["ws_bytes/px"] = benchmark::Counter(
       static_cast<double>(ws.high_water()) / (static_cast<double>(width) * height));
   state.counters["sites"] = benchmark::Counter(static_cast<double>(sites));
@@ -104,6 +106,11 @@ void find_perch_downscaled(benchmark::State& state) {
   options.downscale = static_cast<float>(state.range(0)) / 100.0f;
   perch::workspace ws;
   const perch::fixed_scale scale{tree.mm_per_px};
+  // Warm-up outside the timing: the first call sizes the workspace (and faults its pages in).
+  if (!perch::find_perch(tree.mask.view(), perch::tendon_claw{}, scale, ws, options)) {
+    state.SkipWithError("find_perch failed");
+    return;
+  }
   for (auto _ : state) {
     auto found = perch::find_perch(tree.mask.view(), perch::tendon_claw{}, scale, ws, options);
     benchmark::DoNotOptimize(found);
@@ -115,7 +122,11 @@ BENCHMARK(find_perch_downscaled)->Arg(100)->Arg(50)->Arg(25)->Unit(benchmark::kM
 
 }  // namespace
 
-// Counts every heap allocation in the process (the benchmark loop itself allocates nothing).
+// Counts every heap allocation in the process; `allocs/iter` reads it around each find_perch call.
+// The replacements pair malloc with free on purpose.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
 void* operator new(std::size_t size) {
   g_allocations.fetch_add(1, std::memory_order_relaxed);
   if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
