@@ -465,17 +465,22 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   auto windows = bounded_vector<window_measures>::make(ws, std::min(bound, options.max_windows));
   if (!windows) return unexpected{windows.error()};
   auto window_scratch = ws.allocate<float>(window_scratch_floats(longest));
+  auto diameters = ws.allocate<float>(longest);
   if (!window_scratch) return unexpected{window_scratch.error()};
+  if (!diameters) return unexpected{diameters.error()};
   status measured{};
   graph.for_each_branch([&](const skeleton_branch& b) {
     if (!measured) return;
     const float from = (*node_distance)[static_cast<std::size_t>(b.from)];
     const float to = (*node_distance)[static_cast<std::size_t>(b.to)];
     const detail::branch_stretch stretch = (*stretches)[static_cast<std::size_t>(b.id)];
-    branch_geometry g{b.points.subspan(stretch.first, stretch.count),
-                      b.radius_px.subspan(stretch.first, stretch.count), b.id, b.component,
+    const auto points = b.points.subspan(stretch.first, stretch.count);
+    const auto radii = b.radius_px.subspan(stretch.first, stretch.count);
+    const std::span<float> widths = diameters->first(stretch.count);
+    cross_section_diameters(image_view<const std::uint8_t>(local), points, radii, widths);
+    branch_geometry g{points, radii, b.id, b.component,
                       to < from ? origin_end::back : origin_end::front, prepared->offset,
-                      static_cast<std::uint32_t>(stretch.first)};
+                      static_cast<std::uint32_t>(stretch.first), widths};
     measured = measure_windows(g, *scaled, mm_per_px, *window_scratch, *windows, geometry);
   });
   PERCH_TRY(measured);

@@ -3,10 +3,13 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "perch/analysis/windows.hpp"
+#include "perch/core/image.hpp"
 
 namespace {
 
@@ -160,4 +163,76 @@ TEST_CASE("windows: depth gives each window its own scale and a 3-D position") {
   CHECK(w.position_m.z() == doctest::Approx(2.0f));
   CHECK(w.position_m.x() == doctest::Approx((static_cast<float>(w.centre.x) - 350.0f) * 2.0f / 1000.0f));
   CHECK(w.position_m.y() == doctest::Approx(0.0f));
+}
+
+TEST_CASE("measures: cross-section diameters are unbiased at every angle; 2d - 1 reads low") {
+  // Strips of random width (8–18 px) and sub-pixel position: the pixels whose centres lie within
+  // w/2 of the axis, as any mask samples an outline. The centreline is the digital line along
+  // the axis; d at each point is the exact distance to the nearest background pixel centre.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int angle = 0; angle <= 90; angle += 15) {
+    const float a = static_cast<float>(angle) * std::numbers::pi_v<float> / 180.0f;
+    const float ux = std::cos(a), uy = std::sin(a);
+    double cross_error = 0, cross_square = 0, edt_error = 0;
+    int samples = 0;
+    for (int rep = 0; rep < 12; ++rep) {
+      const float width = 8.0f + 10.0f * unit(rng);
+      const float cx = 60.0f + unit(rng) - 0.5f, cy = 60.0f + unit(rng) - 0.5f;
+      perch::image<std::uint8_t> mask(121, 121, 0);
+      for (int y = 0; y < 121; ++y)
+        for (int x = 0; x < 121; ++x) {
+          const float dx = static_cast<float>(x) - cx, dy = static_cast<float>(y) - cy;
+          if (std::abs(-dx * uy + dy * ux) <= 0.5f * width && std::abs(dx * ux + dy * uy) <= 50.0f)
+            mask(x, y) = 1;
+        }
+      std::vector<perch::pixel> line;
+      for (float t = -30.0f; t <= 30.0f; t += 0.25f) {
+        const perch::pixel p{static_cast<int>(std::lround(cx + t * ux)),
+                             static_cast<int>(std::lround(cy + t * uy))};
+        if (line.empty() || !(line.back() == p)) line.push_back(p);
+      }
+      std::vector<float> radius(line.size()), diameter(line.size());
+      for (std::size_t i = 0; i < line.size(); ++i) {  // brute-force distance to the background
+        float best = 1e9f;
+        for (int y = 0; y < 121; ++y)
+          for (int x = 0; x < 121; ++x)
+            if (!mask(x, y))
+              best = std::min(best, std::hypot(static_cast<float>(x - line[i].x),
+                                               static_cast<float>(y - line[i].y)));
+        radius[i] = best;
+      }
+      perch::cross_section_diameters(mask.view(), line, radius, diameter);
+      for (std::size_t i = 0; i < line.size(); ++i) {
+        const double e = static_cast<double>(diameter[i] - width);
+        CHECK(std::abs(e) <= 1.5);  // one point: within a pixel and a half
+        cross_error += e;
+        cross_square += e * e;
+        edt_error += static_cast<double>(perch::diameter_px(radius[i]) - width);
+        ++samples;
+      }
+    }
+    CAPTURE(angle);
+    CHECK(std::abs(cross_error / samples) <= 0.25);
+    CHECK(std::sqrt(cross_square / samples) <= 0.7);
+    CHECK(edt_error / samples < -0.2);  // why perch does not measure 2d - 1 on windows
+  }
+}
+
+TEST_CASE("measures: a twig attached across the branch does not widen its cross-section") {
+  // A horizontal branch 11 px thick (rows 45..55) with a 3 px twig rising from it at x = 60.
+  perch::image<std::uint8_t> mask(120, 100, 0);
+  for (int x = 0; x < 120; ++x)
+    for (int y = 45; y <= 55; ++y) mask(x, y) = 1;
+  for (int y = 10; y < 45; ++y)
+    for (int x = 59; x <= 61; ++x) mask(x, y) = 1;
+  std::vector<perch::pixel> line;
+  for (int x = 20; x <= 100; ++x) line.push_back({x, 50});
+  const std::vector<float> radius(line.size(), 6.0f);  // d = 6 on row 50 of an 11 px strip
+  std::vector<float> diameter(line.size());
+  perch::cross_section_diameters(mask.view(), line, radius, diameter);
+  CHECK(diameter[0] == doctest::Approx(11.0f));       // 5.5 + 5.5: the strip's pixel width
+  // x = 60: the upward walk runs into the 35 px twig and stops at the cap, d + 1.5 px.
+  CHECK(diameter[40] <= 6.0f + 1.5f + 5.5f + 1e-4f);
+  CHECK(diameter[40] > 12.0f);
 }

@@ -17,7 +17,7 @@ perch::window_measures window(float slope_deg, float diameter_mm) {
 }  // namespace
 
 TEST_CASE("constraints: misses are measured in the constraint's unit, 0 when passing") {
-  const perch::diameter_range d{30.0f, 110.0f};
+  const perch::diameter_range d{30.0f, 110.0f, 0.0f};  // the paper's plain range
   CHECK(d(window(0, 50)) == 0.0f);
   CHECK(d(window(0, 25)) == doctest::Approx(5.0f));
   CHECK(d(window(0, 130)) == doctest::Approx(20.0f));
@@ -33,6 +33,20 @@ TEST_CASE("constraints: misses are measured in the constraint's unit, 0 when pas
   CHECK(perch::max_curvature{.max_per_mm = 0.005f}(bent) == doctest::Approx(0.005f));
   bent.reversal_mm = 12.0f;
   CHECK(perch::monotonic{.tolerance_mm = 5.0f}(bent) == doctest::Approx(7.0f));
+}
+
+TEST_CASE("constraints: the diameter margin is in pixels at the window's scale") {
+  const perch::diameter_range d{30.0f, 110.0f};  // default margin: half a pixel
+  CHECK(d.margin_px == 0.5f);
+  CHECK(d(window(0, 50)) == 0.0f);
+  CHECK(d(window(0, 30.5f)) == 0.0f);                            // 1 mm/px: 30.5 is enough
+  CHECK(d(window(0, 30.2f)) == doctest::Approx(0.3f));           // within noise of 30
+  CHECK(d(window(0, 109.6f)) == doctest::Approx(0.1f));          // within noise of 110
+  perch::window_measures coarse = window(0, 31.0f);
+  coarse.mm_per_px = 4.0f;                                       // half a pixel is 2 mm
+  CHECK(d(coarse) == doctest::Approx(1.0f));
+  CHECK(perch::diameter_range{30.0f, 110.0f, -1.0f}.validate().error().code ==
+        errc::invalid_parameter);
 }
 
 TEST_CASE("constraints: bending stress of paper eq. 4 (1.5 kg, r = 15 mm, L = 2 m -> 11.1 MPa)") {

@@ -48,7 +48,7 @@ TEST_CASE("rank: viability, eq. 3 ranking, distinct sites and why the others los
       window(2, 0, 110, 2.0f, 105.0f),  // viable, P = 0.8·2/35 + 0.2·75/80
   };
   using constraints = perch::all_of<perch::diameter_range, perch::max_slope, perch::clearance>;
-  const constraints c{perch::diameter_range{30.0f, 110.0f}, perch::max_slope{35.0f},
+  const constraints c{perch::diameter_range{30.0f, 110.0f, 0.0f}, perch::max_slope{35.0f},
                       perch::clearance{.margin_mm = 20.0f, .max_share = 0.1f}};
   auto make_context = [&tree](const perch::window_measures& m) {
     const perch::point2f centre = perch::to_point(m.centre);

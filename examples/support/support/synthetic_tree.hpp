@@ -555,9 +555,20 @@ inline void grow_tree(const tree_options& o, std::vector<limb_truth>& limbs,
       side.parent = index;
       side.parent_arc = static_cast<double>(s);
       side.base = {static_cast<double>(at.x()), static_cast<double>(at.y())};
-      side.heading = seed.kind == limb_kind::trunk
-                         ? side_sign * rng.uniform(58.0, 84.0) * deg
-                         : clamp_heading(here + side_sign * rng.uniform(35.0, 70.0) * deg);
+      if (seed.kind == limb_kind::trunk) {
+        side.heading = side_sign * rng.uniform(58.0, 84.0) * deg;
+      } else {
+        // Diverge by 35–70° from the parent. Near a horizontal parent the clamp can take most
+        // of that away (a limb heading 95° turned +50° clamps to 105°: 10° of divergence), and
+        // the child then hugs its parent for its whole length, fused with it in the mask: no
+        // tree grows so, so such a limb leaves on the other side instead.
+        const double divergence = rng.uniform(35.0, 70.0) * deg;
+        side.heading = clamp_heading(here + side_sign * divergence);
+        if (std::abs(side.heading - here) < 35.0 * deg) {
+          side_sign = -side_sign;
+          side.heading = clamp_heading(here + side_sign * divergence);
+        }
+      }
       if (none) side.heading = side_sign * rng.uniform(62.0, 88.0) * deg;  // near-horizontal
       side_sign = -side_sign;
       side.diameter = side_at.d;

@@ -34,6 +34,9 @@ struct branch_geometry {
   /// Index of `points[0]` in the whole branch polyline when `points` is a stretch of it: added
   /// to the reported `first`, `last` and `middle` so they index the whole polyline.
   std::uint32_t first_index = 0;
+  /// Optional diameter (px) at each point (`cross_section_diameters`); empty: 2·d − 1 from
+  /// `radius_px`.
+  std::span<const float> diameter_px{};
 };
 
 /// Window geometry and measuring options. Defaults: the tendon-claw drone of Li et al. 2025.
@@ -76,6 +79,8 @@ template <ScalePolicy Scale>
                                      const window_options& options = {}) noexcept {
   const std::size_t n = branch.points.size();
   PERCH_ASSERT(branch.radius_px.size() == n, "measure_windows: radius size");
+  PERCH_ASSERT(branch.diameter_px.empty() || branch.diameter_px.size() == n,
+               "measure_windows: diameter size");
   PERCH_ASSERT(scratch.size() >= window_scratch_floats(n), "measure_windows: scratch");
   if (n < 2) return {};
   std::span<float> arc = scratch.first(n);
@@ -98,6 +103,9 @@ template <ScalePolicy Scale>
     return static_cast<std::size_t>(it - arc.begin()) - 1;
   };
   auto to_image = [&](pixel p) { return pixel{p.x + branch.offset.x, p.y + branch.offset.y}; };
+  auto diameter_at = [&](std::size_t i) {
+    return branch.diameter_px.empty() ? diameter_px(branch.radius_px[i]) : branch.diameter_px[i];
+  };
 
   const float stride_px = options.stride_mm / global_mm_per_px;
   for (float start = 0; start < total_px; start += stride_px) {
@@ -152,7 +160,7 @@ template <ScalePolicy Scale>
     for (std::size_t i = a; i <= b; ++i) {
       kmax = std::max(kmax, std::abs(kappa[i]));
       ksum += std::abs(kappa[i]);
-      const float d = diameter_px(branch.radius_px[i]);
+      const float d = diameter_at(i);
       dmin = std::min(dmin, d);
       dmax = std::max(dmax, d);
       dsum += d;
@@ -168,7 +176,7 @@ template <ScalePolicy Scale>
     w.diameter_max_mm = dmax * mm_per_px;
     w.diameter_mean_mm = dsum / count * mm_per_px;
     w.claw_diameter_mm =
-        (claw_count > 0 ? claw_sum / static_cast<float>(claw_count) : diameter_px(branch.radius_px[m])) *
+        (claw_count > 0 ? claw_sum / static_cast<float>(claw_count) : diameter_at(m)) *
         mm_per_px;
     w.reversal_mm = reversal_px(pts) * mm_per_px;
     const float along = from_front ? arc[m] : total_px - arc[m];

@@ -21,17 +21,27 @@ namespace detail {
 }
 }  // namespace detail
 
-/// Claw-region mean diameter within [min_mm, max_mm] (Li et al. 2025: 30–110 mm).
+/// Claw-region mean diameter within [min_mm, max_mm] (Li et al. 2025: 30–110 mm), by at least
+/// `margin_px` image pixels at the window's scale.
+///
+/// The margin is the measurement's uncertainty: a diameter read off a mask is good to a fraction
+/// of a pixel, and the eq. 3 scorer prefers the smallest graspable diameter, so without a margin
+/// the ranking seeks out exactly the windows whose diameter is within noise of `min_mm`. 0 gives
+/// the paper's plain range.
 struct diameter_range {
   static constexpr std::string_view name = "diameter";
   static constexpr std::string_view unit = "mm";
   float min_mm = 30.0f;
   float max_mm = 110.0f;
+  float margin_px = 0.5f;
   [[nodiscard]] float operator()(const window_measures& m) const noexcept {
-    return std::max({min_mm - m.claw_diameter_mm, m.claw_diameter_mm - max_mm, 0.0f});
+    const float margin_mm = margin_px * m.mm_per_px;
+    return std::max({min_mm + margin_mm - m.claw_diameter_mm,
+                     m.claw_diameter_mm - (max_mm - margin_mm), 0.0f});
   }
   [[nodiscard]] status validate() const noexcept {
-    if (!detail::finite_non_negative(min_mm) || !detail::finite_non_negative(max_mm))
+    if (!detail::finite_non_negative(min_mm) || !detail::finite_non_negative(max_mm) ||
+        !detail::finite_non_negative(margin_px))
       return fail(errc::invalid_parameter, "diameter_range");
     if (min_mm > max_mm) return fail(errc::range_inverted, "diameter_range");
     return {};
