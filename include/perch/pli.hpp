@@ -243,7 +243,9 @@ template <class OwnAt>
 /// the junction to where its axis meets this branch (`limb_at_junction`: a limb is modelled as
 /// starting on its parent's axis, so the part of it hidden inside the parent counts too). The
 /// window then starts where the branch is clear of every limb at the junction, however oblique
-/// the fork. Ends and loops keep all their points.
+/// the fork. At a tip, the points within their own radius (arc length) of the end are left out:
+/// the medial axis runs on into the tip's round cap, past where the limb's axis ends. Loops keep
+/// all their points.
 /// Complexity: O(points of the branches at the junction within a few node radii).
 [[nodiscard]] inline branch_stretch outside_junctions(const skeleton_graph& graph,
                                                       const skeleton_branch& b) noexcept {
@@ -254,8 +256,18 @@ template <class OwnAt>
   };
   const std::size_t n = b.points.size();
   // Trims from one end: `at(k)` is the k-th point walked from node `id`; returns points trimmed.
-  auto trim = [&](node_id id, auto&& at, std::size_t limit) -> std::size_t {
+  auto trim = [&](node_id id, auto&& index, std::size_t limit) -> std::size_t {
+    auto at = [&](std::size_t k) { return b.points[index(k)]; };
     const skeleton_node node = graph.node(id);
+    if (node.kind == node_kind::end) {  // the round cap of a tip
+      std::size_t k = 0;
+      float arc = 0;
+      while (k < limit && arc < b.radius_px[index(k)]) {
+        ++k;
+        if (k < limit) arc += std::sqrt(distance2(at(k), at(k - 1)));
+      }
+      return k;
+    }
     if (node.kind != node_kind::junction) return 0;
     constexpr std::size_t max_limbs = 8;
     junction_limb limbs[max_limbs];
@@ -296,10 +308,8 @@ template <class OwnAt>
     while (k < limit && inside(at(k))) ++k;
     return k;
   };
-  const std::size_t front =
-      trim(b.from, [&](std::size_t k) { return b.points[k]; }, n);
-  const std::size_t back =
-      trim(b.to, [&](std::size_t k) { return b.points[n - 1 - k]; }, n - front);
+  const std::size_t front = trim(b.from, [](std::size_t k) { return k; }, n);
+  const std::size_t back = trim(b.to, [n](std::size_t k) { return n - 1 - k; }, n - front);
   return {front, n - front - back};
 }
 
@@ -367,6 +377,9 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   const int w = local.width();
   const int h = local.height();
   const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  // Checked against the input before rescaling reads it (a depth view of another size, or a
+  // null one, must not be resampled).
+  PERCH_TRY(scale.validate(scale_context{mask.width(), mask.height(), 0, {}, {}, {}}));
   auto scaled = detail::rescale(scale, options.downscale, ws);
   if (!scaled) return unexpected{scaled.error()};
   scale_context context{prepared->analysed_width, prepared->analysed_height, 0, {}, prepared->offset, {}};
@@ -503,9 +516,11 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
 
   // Report sites and near misses in input-image pixels.
   auto to_input = [&](window_measures& window) {
+    // Clamped: a reduced pixel of an odd-sized input's last row or column is centred half a
+    // pixel past the input's edge.
     const point2f c = prepared->to_input(to_point(window.centre));
-    window.centre = {static_cast<std::int32_t>(std::lround(c.x())),
-                     static_cast<std::int32_t>(std::lround(c.y()))};
+    window.centre = {std::clamp(static_cast<std::int32_t>(std::lround(c.x())), 0, out.width - 1),
+                     std::clamp(static_cast<std::int32_t>(std::lround(c.y())), 0, out.height - 1)};
     window.mm_per_px *= options.downscale;
   };
   auto sites = ws.allocate<perch_site>(ranked->sites.size());
