@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Runs every libFuzzer target for SECONDS each (default 60) with clang 16, ASan and UBSan.
 # Seeds come from the sample masks (examples/data/) and tests/fuzz/corpus/; findings are written
-# to build/fuzz/findings/<target>/ and should become regression tests.
+# to build/fuzz/findings/<target>/ (each run's whole log to build/fuzz/<target>.log) and should
+# become regression tests. Every target runs even when an earlier one found something; the exit
+# status is 1 if any did. An input that runs longer than 10 s counts as a finding (an endless
+# loop). CMAKE_BUILD_PARALLEL_LEVEL limits the build's jobs.
 # Usage: scripts/fuzz.sh [SECONDS] [target ...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,6 +17,7 @@ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(fuzz_png fuzz_find_perch fuzz_skeleton_graph)
 cmake --build build/fuzz --target "${targets[@]}"
+found=0
 for t in "${targets[@]}"; do
   corpus="build/fuzz/corpus/$t"
   findings="build/fuzz/findings/$t"
@@ -22,11 +26,13 @@ for t in "${targets[@]}"; do
   cp -n examples/data/*.png "$corpus"/ 2>/dev/null || true
   [ -d "tests/fuzz/corpus/$t" ] && cp -n "tests/fuzz/corpus/$t"/* "$corpus"/ 2>/dev/null || true
   echo "== $t: ${seconds}s"
-  "build/fuzz/tests/fuzz/$t" -max_total_time="$seconds" -print_final_stats=1 \
-    -artifact_prefix="$findings/" -max_len=65536 "$corpus" 2>&1 |
-    grep -E "^(stat::|==|SUMMARY|Done)" || true
+  "build/fuzz/tests/fuzz/$t" -max_total_time="$seconds" -timeout=10 -print_final_stats=1 \
+    -artifact_prefix="$findings/" -max_len=65536 "$corpus" 2>&1 | tee "build/fuzz/$t.log" |
+    grep -E "^(stat::|==|SUMMARY|Done|#[0-9]+[[:space:]]+DONE|ALARM|Test unit written)|runtime error|deadly signal" ||
+    true
   if compgen -G "$findings/*" >/dev/null; then
     echo "perch: $t found crashes: $findings" >&2
-    exit 1
+    found=1
   fi
 done
+exit "$found"

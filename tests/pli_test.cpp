@@ -7,6 +7,7 @@
 #include <numbers>
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "allocation_counter.hpp"
@@ -250,10 +251,40 @@ TEST_CASE("find_perch: bad input gets a status, never a crash") {
     claw.geometry.drone_width_mm = bad;
     CHECK(perch::find_perch(mask.view(), claw, perch::trunk_prior{}, ws).error().code ==
           errc::invalid_parameter);
+    perch::tendon_claw narrow_claw;
+    narrow_claw.geometry.claw_width_mm = bad;
+    CHECK(perch::find_perch(mask.view(), narrow_claw, perch::trunk_prior{}, ws).error().code ==
+          errc::invalid_parameter);
+    CHECK(perch::find_perch(mask.view(), perch::tendon_claw{}, perch::trunk_prior{bad}, ws)
+              .error().code == errc::invalid_parameter);
+    perch::perch_options reduce;
+    reduce.downscale = bad;
+    CHECK(perch::find_perch(mask.view(), ws, reduce).error().code == errc::invalid_parameter);
+    perch::image<std::uint16_t> depth_mm(mask.width(), mask.height(), 2000);
+    perch::depth_scale lens{depth_mm.view(), {bad, 500.0f, 320.0f, 240.0f}};
+    CHECK(perch::find_perch(mask.view(), perch::tendon_claw{}, lens, ws).error().code ==
+          errc::invalid_parameter);
   }
+  perch::perch_options enlarge;
+  enlarge.downscale = 1.5f;
+  CHECK(perch::find_perch(mask.view(), ws, enlarge).error().code == errc::invalid_parameter);
+  // Dimensions: negative, more than 2^30 pixels, a stride whose product with the height overflows.
+  const int huge = std::numeric_limits<int>::max();
+  CHECK(perch::find_perch(perch::image_view<const std::uint8_t>(mask.data(), -1, 10), ws)
+            .error().code == errc::bad_dimensions);
+  CHECK(perch::find_perch(perch::image_view<const std::uint8_t>(mask.data(), huge, huge), ws)
+            .error().code == errc::image_too_large);
+  CHECK(perch::find_perch(perch::image_view<const std::uint8_t>(mask.data(), 32769, 32768), ws)
+            .error().code == errc::image_too_large);
+  CHECK(perch::find_perch(perch::image_view<const std::uint8_t>(
+                              mask.data(), 4, huge, std::numeric_limits<std::ptrdiff_t>::max() / 4),
+                          ws)
+            .error().code == errc::size_overflow);
   perch::perch_options roll;
   roll.camera.roll_deg = nan;
-  CHECK_FALSE(perch::find_perch(mask.view(), ws, roll));
+  CHECK(perch::find_perch(mask.view(), ws, roll).error().code == errc::invalid_parameter);
+  roll.camera.roll_deg = std::numeric_limits<float>::infinity();
+  CHECK(perch::find_perch(mask.view(), ws, roll).error().code == errc::invalid_parameter);
   perch::tendon_claw inverted;
   inverted.geometry.grasp_min_mm = 200.0f;
   CHECK(perch::find_perch(mask.view(), inverted, perch::trunk_prior{}, ws).error().code ==
@@ -266,10 +297,144 @@ TEST_CASE("find_perch: bad input gets a status, never a crash") {
   perch::depth_scale depth{small_depth.view(), {500.0f, 500.0f, 5.0f, 5.0f}};
   CHECK(perch::find_perch(mask.view(), perch::tendon_claw{}, depth, ws).error().code ==
         errc::size_mismatch);
+  // Downscaled, the depth view is checked before it is resampled: a null one used to be read
+  // (a crash), and one a column narrower than the mask reduced to the mask's reduced size.
+  perch::perch_options half;
+  half.downscale = 0.5f;
+  const perch::pinhole lens{500.0f, 500.0f, 320.0f, 240.0f};
+  perch::depth_scale null_depth{
+      perch::image_view<const std::uint16_t>(nullptr, mask.width(), mask.height()), lens};
+  CHECK(perch::find_perch(mask.view(), perch::tendon_claw{}, null_depth, ws, half).error().code ==
+        errc::null_data);
+  perch::image<std::uint16_t> narrow_depth(mask.width() - 1, mask.height(), 2000);
+  perch::depth_scale narrow{narrow_depth.view(), lens};
+  CHECK(perch::find_perch(mask.view(), perch::tendon_claw{}, narrow, ws, half).error().code ==
+        errc::size_mismatch);
+  perch::depth_scale short_stride_depth{
+      perch::image_view<const std::uint16_t>(narrow_depth.data(), mask.width(), mask.height(), 8),
+      lens};
+  CHECK(perch::find_perch(mask.view(), perch::tendon_claw{}, short_stride_depth, ws, half)
+            .error().code == errc::stride_too_small);
+  perch::tendon_claw no_weights;
+  no_weights.scorer.lambda_slope = 0.0f;
+  no_weights.scorer.lambda_diameter = 0.0f;
+  CHECK(perch::find_perch(mask.view(), no_weights, perch::trunk_prior{}, ws).error().code ==
+        errc::weights_not_normalised);
   perch::perch_options few;
   few.max_windows = 2;
   CHECK(perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws, few)
             .error().code == errc::capacity_exceeded);
+}
+
+namespace {
+
+/// Checks what every result must satisfy: sites inside the image, on the mask (at full
+/// resolution), with finite values; near misses inside the image.
+void check_sites(const image<std::uint8_t>& mask, const perch::perch_result& r, float downscale) {
+  for (const perch::perch_site& s : r.sites) {
+    const perch::window_measures& m = s.window;
+    CAPTURE(m.centre.x);
+    CAPTURE(m.centre.y);
+    REQUIRE(mask.view().contains(m.centre.x, m.centre.y));
+    if (downscale == 1.0f) CHECK(mask(m.centre.x, m.centre.y) != 0);
+    for (const float v : {s.penalty, m.slope_deg, m.claw_diameter_mm, m.curvature_max_per_mm})
+      CHECK(std::isfinite(v));
+  }
+  for (const perch::near_miss& m : r.near_misses)
+    if (m.present) CHECK(mask.view().contains(m.window.centre.x, m.window.centre.y));
+}
+
+image<std::uint8_t> mask_where(int width, int height, auto&& tree) {
+  image<std::uint8_t> m(width, height);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) m(x, y) = tree(x, y) ? 255 : 0;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("find_perch: degenerate masks are outcomes with valid sites, never errors") {
+  perch::workspace ws;
+  struct degenerate {
+    std::string name;
+    image<std::uint8_t> mask;
+  };
+  const degenerate cases[] = {
+      {"1x1 tree", image<std::uint8_t>(1, 1, 255)},
+      {"1xN tree", image<std::uint8_t>(200, 1, 255)},
+      {"Nx1 tree", image<std::uint8_t>(1, 200, 255)},
+      {"all foreground", image<std::uint8_t>(64, 48, 255)},
+      {"one pixel", mask_where(64, 48, [](int x, int y) { return x == 30 && y == 20; })},
+      {"checkerboard", mask_where(64, 48, [](int x, int y) { return (x + y) % 2 == 1; })},
+      {"every border", mask_where(300, 200, [](int x, int y) {
+         return x < 12 || y < 12 || x >= 288 || y >= 188 || std::abs(x - 150) < 8 ||
+                std::abs(y - 100) < 6;
+       })},
+  };
+  for (const degenerate& c : cases)
+    for (const float downscale : {1.0f, 0.5f}) {
+      CAPTURE(c.name);
+      CAPTURE(downscale);
+      perch::perch_options options;
+      options.downscale = downscale;
+      // Area downscaling by 0.5 leaves a quarter of a lone pixel: below half, no tree.
+      const bool vanishes = c.name == "one pixel" && downscale < 1.0f;
+      auto trunk = perch::find_perch(c.mask.view(), ws, options);
+      REQUIRE(trunk);
+      CHECK((trunk->outcome == perch_outcome::no_tree) == vanishes);
+      check_sites(c.mask, *trunk, downscale);
+      auto fixed = perch::find_perch(c.mask.view(), perch::tendon_claw{}, perch::fixed_scale{5.0f},
+                                     ws, options);
+      REQUIRE(fixed);
+      CHECK((fixed->outcome == perch_outcome::no_tree) == vanishes);
+      check_sites(c.mask, *fixed, downscale);
+    }
+  // The trunk prior makes a tree of one width 180 mm wide, too thick for the claw; the frame
+  // touching every border has 12 px limbs (60 mm at 5 mm/px) and a perch.
+  CHECK(perch::find_perch(cases[1].mask.view(), ws)->outcome == perch_outcome::no_perch);
+  CHECK(perch::find_perch(cases[3].mask.view(), ws)->outcome == perch_outcome::no_perch);
+  auto frame = perch::find_perch(cases[6].mask.view(), perch::tendon_claw{},
+                                 perch::fixed_scale{5.0f}, ws);
+  REQUIRE(frame);
+  CHECK(frame->outcome == perch_outcome::found);
+  image<std::uint8_t> empty_pixel(1, 1, 0);
+  CHECK(perch::find_perch(empty_pixel.view(), ws)->outcome == perch_outcome::no_tree);
+}
+
+TEST_CASE("find_perch: downscaled sites on an odd-sized mask's last row stay in the image") {
+  // Fuzz finding (tests/fuzz/corpus/fuzz_find_perch/odd-height-downscale-site-outside): at
+  // downscale 0.5 the last reduced row of an odd-height mask is centred half a pixel below the
+  // image, and sites there were reported at y = height.
+  perch::workspace ws;
+  perch::perch_options half;
+  half.downscale = 0.5f;
+  for (const int height : {1, 5, 41}) {
+    CAPTURE(height);
+    const auto bar = mask_where(120, height, [&](int, int y) { return y == height - 1; });
+    auto found = perch::find_perch(bar.view(), perch::tendon_claw{}, perch::fixed_scale{30.0f},
+                                   ws, half);
+    REQUIRE(found);
+    REQUIRE(found->outcome == perch_outcome::found);
+    check_sites(bar, *found, half.downscale);
+    CHECK(found->sites.front().window.centre.y == height - 1);
+  }
+  // The fuzzer's input, decoded as tests/fuzz/fuzz_find_perch.cpp does: a 58 × 1 mask.
+  const std::uint8_t bits[] = {0x0, 0x0, 0x0, 0xfd, 0xff, 0xfc, 0xe0, 0x7, 0x52, 0x0, 0x0};
+  image<std::uint8_t> row(58, 1);
+  for (int i = 0; i < 58; ++i) row(i, 0) = (bits[i / 8] >> (i % 8)) & 1;
+  perch::perch_options fuzzed = half;
+  fuzzed.stride_mm = 0.25f + 182.0f / 16.0f;
+  fuzzed.ranking.top_k = 5;
+  for (const float trunk_mm : {107.5f, 60.0f}) {
+    auto found = perch::find_perch(row.view(), perch::tendon_claw{}, perch::trunk_prior{trunk_mm},
+                                   ws, fuzzed);
+    REQUIRE(found);
+    check_sites(row, *found, half.downscale);
+  }
+  auto tether = perch::find_perch(row.view(), perch::tensile_tether{}, perch::fixed_scale{20.0f}, ws, half);
+  REQUIRE(tether);
+  CHECK(tether->outcome == perch_outcome::found);
+  check_sites(row, *tether, half.downscale);
 }
 
 TEST_CASE("find_perch: a borrowed workspace too small says how many bytes it needs") {
@@ -280,6 +445,17 @@ TEST_CASE("find_perch: a borrowed workspace too small says how many bytes it nee
   REQUIRE_FALSE(failed);
   CHECK(failed.error().code == errc::workspace_too_small);
   CHECK(failed.error().needed > tiny.size());
+  // Sizes and options find_perch rejects before taking memory need none (no overflow, no UB).
+  const int huge = std::numeric_limits<int>::max();
+  CHECK(perch::find_perch_workspace_bytes(huge, 1) == 0);
+  CHECK(perch::find_perch_workspace_bytes(huge, huge) == 0);
+  CHECK(perch::find_perch_workspace_bytes(32769, 32768) == 0);
+  CHECK(perch::find_perch_workspace_bytes(-5, 10) == 0);
+  CHECK(perch::find_perch_workspace_bytes(0, 10) == 0);
+  perch::perch_options nan_downscale;
+  nan_downscale.downscale = std::numeric_limits<float>::quiet_NaN();
+  CHECK(perch::find_perch_workspace_bytes(640, 480, nan_downscale) == 0);
+  CHECK(perch::find_perch_workspace_bytes(32768, 32768) > perch::find_perch_workspace_bytes(640, 480));
   // The size query is enough.
   std::vector<std::byte> enough(perch::find_perch_workspace_bytes(mask.width(), mask.height()));
   perch::workspace sized{std::span<std::byte>(enough)};

@@ -318,8 +318,13 @@ template <class OwnAt>
 /// Bytes of workspace `find_perch` needs at most for a `width` × `height` mask (every pixel
 /// tree, the worst case); give a borrowed workspace this much and it never fails for lack of
 /// room. Real trees need far less: `workspace::high_water()` after a call says how much.
+/// 0 for sizes or options `find_perch` rejects before taking any workspace (negative or zero
+/// sizes, more than `max_image_pixels`, invalid options).
 [[nodiscard]] inline std::size_t find_perch_workspace_bytes(int width, int height,
                                                            const perch_options& options = {}) noexcept {
+  if (width <= 0 || height <= 0 || std::int64_t{width} * height > max_image_pixels ||
+      !options.validate())
+    return 0;
   const int w = scaled_extent(width, options.downscale) + 2;
   const int h = scaled_extent(height, options.downscale) + 2;
   const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);

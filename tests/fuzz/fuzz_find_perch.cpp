@@ -1,6 +1,7 @@
 // Fuzz target: find_perch on arbitrary masks and parameters. The input bytes choose the size,
-// the platform, the scale and the options (including NaN, zero and negative values), then the
-// pixels. Any input must give a status or a result whose sites lie on the mask with finite
+// the platform, the scale (fixed, trunk prior, or a depth image that may be a column too wide
+// and have invalid samples) and the options (including NaN, zero and negative values), then
+// the pixels. Any input must give a status or a result whose sites lie on the mask with finite
 // values; never a crash, UB, an assert or an endless loop.
 #include <cmath>
 #include <cstddef>
@@ -51,6 +52,7 @@ void run(const perch::image<std::uint8_t>& mask, const Platform& platform, const
                           m.mm_per_px, m.diameter_min_mm, m.diameter_max_mm})
       check(std::isfinite(v));
     check(m.slope_deg >= 0.0f && m.slope_deg <= 90.0f);
+    if (m.has_position) check(m.position_m.allFinite());
   }
 }
 
@@ -76,7 +78,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     mask.data()[i] = (pixels[i / 8] >> (i % 8)) & 1;
 
   const int scale_kind = (choice >> 1) & 1;
-  switch ((choice >> 2) % 5) {
+  switch ((choice >> 2) % 6) {
     case 0:
       scale_kind == 0 ? run(mask, perch::tendon_claw{}, perch::fixed_scale{scale_value}, options)
                       : run(mask, perch::tendon_claw{}, perch::trunk_prior{scale_value * 40}, options);
@@ -90,9 +92,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     case 3:
       run(mask, perch::ornithopter{}, perch::trunk_prior{scale_value * 40}, options);
       break;
-    default:
+    case 4:
       run(mask, perch::treecreeper{}, perch::fixed_scale{scale_value}, options);
       break;
+    default: {
+      // Depth in mm from the pixel bytes (0 = invalid), sometimes one column wider than the mask.
+      const int depth_w = w + (choice >> 7);
+      perch::image<std::uint16_t> depth(depth_w, h);
+      for (int i = 0; i < depth_w * h && size > 6; ++i)
+        depth.data()[i] = static_cast<std::uint16_t>(pixels[static_cast<std::size_t>(i) % (size - 6)] * 16);
+      const float f = scale_value * 400.0f;
+      const perch::pinhole intrinsics{f, f, static_cast<float>(w) / 2, static_cast<float>(h) / 2};
+      run(mask, perch::tendon_claw{}, perch::depth_scale{depth.view(), intrinsics}, options);
+      break;
+    }
   }
   return 0;
 }

@@ -3,13 +3,17 @@
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
 #include <doctest/doctest.h>
 #include <sys/wait.h>
+#include <zlib.h>
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "json_reader.hpp"
@@ -116,6 +120,94 @@ perch::png::decoded_png decode(const fs::path& path) {
   auto png = perch::png::read_png_file(path);
   REQUIRE_MESSAGE(png.has_value(), path.string() << ": " << (png ? std::string() : png.error().message));
   return std::move(*png);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Hand-made PNG files (zlib's crc32 and compress, independent of the reader under test).
+
+using bytes = std::vector<std::uint8_t>;
+
+void put32(bytes& out, std::uint32_t v) {
+  for (const int shift : {24, 16, 8, 0}) out.push_back(static_cast<std::uint8_t>(v >> shift));
+}
+
+void put_chunk(bytes& out, std::string_view type, const bytes& contents) {
+  put32(out, static_cast<std::uint32_t>(contents.size()));
+  bytes typed(type.begin(), type.end());
+  typed.insert(typed.end(), contents.begin(), contents.end());
+  out.insert(out.end(), typed.begin(), typed.end());
+  put32(out, static_cast<std::uint32_t>(::crc32(0L, typed.data(), static_cast<uInt>(typed.size()))));
+}
+
+bytes ihdr(std::uint32_t w, std::uint32_t h, int depth, int colour, int interlace) {
+  bytes d;
+  put32(d, w);
+  put32(d, h);
+  for (const int v : {depth, colour, 0, 0, interlace}) d.push_back(static_cast<std::uint8_t>(v));
+  return d;
+}
+
+bytes deflate(const bytes& raw) {
+  uLongf size = compressBound(static_cast<uLong>(raw.size()));
+  bytes out(size);
+  REQUIRE(compress2(out.data(), &size, raw.data(), static_cast<uLong>(raw.size()), 9) == Z_OK);
+  out.resize(size);
+  return out;
+}
+
+/// A PNG of chunks in the given order, after the signature.
+bytes assemble(const std::vector<std::pair<std::string_view, bytes>>& chunks) {
+  bytes out{137, 80, 78, 71, 13, 10, 26, 10};
+  for (const auto& [type, contents] : chunks) put_chunk(out, type, contents);
+  return out;
+}
+
+/// An 8-bit gray PNG of `pixels` (row-major), plain or Adam7-interlaced (passes from the spec's
+/// table; empty passes have no rows).
+bytes gray_png(std::uint32_t w, std::uint32_t h, const bytes& pixels, int interlace = 0) {
+  struct pass {
+    std::uint32_t x0, y0, dx, dy;
+  };
+  const std::vector<pass> passes =
+      interlace == 0 ? std::vector<pass>{{0, 0, 1, 1}}
+                     : std::vector<pass>{{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4},
+                                         {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}};
+  bytes raw;
+  for (const pass& p : passes) {
+    if (p.x0 >= w || p.y0 >= h) continue;
+    for (std::uint32_t y = p.y0; y < h; y += p.dy) {
+      raw.push_back(0);  // filter: none
+      for (std::uint32_t x = p.x0; x < w; x += p.dx) raw.push_back(pixels[y * w + x]);
+    }
+  }
+  return assemble({{"IHDR", ihdr(w, h, 8, 0, interlace)}, {"IDAT", deflate(raw)}, {"IEND", {}}});
+}
+
+void write_bytes(const fs::path& path, const bytes& b) {
+  std::ofstream file(path, std::ios::binary);
+  file.write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+  REQUIRE(file.good());
+}
+
+/// A `w` × `h` gray mask PNG: 255 where `tree(x, y)`.
+template <class F>
+bytes mask_png(std::uint32_t w, std::uint32_t h, F&& tree, int interlace = 0) {
+  bytes pixels(static_cast<std::size_t>(w) * h);
+  for (std::uint32_t y = 0; y < h; ++y)
+    for (std::uint32_t x = 0; x < w; ++x) pixels[y * w + x] = tree(x, y) ? 255 : 0;
+  return gray_png(w, h, pixels, interlace);
+}
+
+/// Every reported site (perch and candidates) lies inside the image.
+void check_sites_inside(const json_value& doc, int width, int height) {
+  std::vector<const json_value*> sites;
+  for (const json_value& c : member(doc, "candidates").items) sites.push_back(&c);
+  if (member(doc, "perch").is_object()) sites.push_back(&member(doc, "perch"));
+  for (const json_value* s : sites) {
+    const double x = member(*s, "x").number;
+    const double y = member(*s, "y").number;
+    CHECK_MESSAGE((x >= 0 && x < width && y >= 0 && y < height), "site (" << x << ", " << y << ")");
+  }
 }
 
 }  // namespace
@@ -252,6 +344,173 @@ TEST_CASE("bad arguments and unreadable input exit 2 with a message on stderr") 
     const run_result r = run_perch(args, dir);
     CHECK_MESSAGE(r.exit_code == 2, shown << "-> " << r.exit_code);
     CHECK_MESSAGE(!r.err.empty(), shown);
+  }
+}
+
+TEST_CASE("detect: degenerate masks exit 0 with a valid document, sites inside the image") {
+  const fs::path dir = scratch("detect_degenerate");
+  struct degenerate {
+    const char* name;
+    std::uint32_t w, h;
+    bool (*tree)(std::uint32_t, std::uint32_t);
+    const char* status;  // with --mm-per-px 5 at full resolution, where certain
+  };
+  const degenerate cases[] = {
+      {"one-by-one", 1, 1, [](std::uint32_t, std::uint32_t) { return true; }, "no_perch"},
+      {"one-row", 200, 1, [](std::uint32_t, std::uint32_t) { return true; }, nullptr},
+      {"one-column", 1, 200, [](std::uint32_t, std::uint32_t) { return true; }, nullptr},
+      {"all-foreground", 64, 48, [](std::uint32_t, std::uint32_t) { return true; }, "no_perch"},
+      {"one-pixel", 64, 48, [](std::uint32_t x, std::uint32_t y) { return x == 30 && y == 20; },
+       "no_perch"},
+      {"checkerboard", 64, 48, [](std::uint32_t x, std::uint32_t y) { return (x + y) % 2 == 1; },
+       nullptr},
+      {"every-border", 300, 200,
+       [](std::uint32_t x, std::uint32_t y) {
+         return x < 12 || y < 12 || x >= 288 || y >= 188 || (x > 142 && x < 158) ||
+                (y > 94 && y < 106);
+       },
+       "ok"},
+  };
+  for (const degenerate& c : cases) {
+    const std::string name = c.name;
+    CAPTURE(name);
+    const fs::path mask = dir / (name + ".png");
+    write_bytes(mask, mask_png(c.w, c.h, c.tree));
+    const int w = static_cast<int>(c.w);
+    const int h = static_cast<int>(c.h);
+    const fs::path picture = dir / (name + ".annotated.png");
+    const std::vector<std::vector<std::string>> variants = {
+        {"--mm-per-px", "5"}, {"--mm-per-px", "5", "--downscale", "0.5"}, {}, {"--downscale", "0.5"}};
+    for (std::size_t i = 0; i < variants.size(); ++i) {
+      const std::vector<std::string>& v = variants[i];
+      CAPTURE(i);
+      std::vector<std::string> args = {"detect", mask.string(), "--no-timing", "--annotate", picture.string()};
+      args.insert(args.end(), v.begin(), v.end());
+      const run_result r = run_perch(args, dir);
+      REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+      const json_value doc = check_detect(r.out, w, h);
+      check_sites_inside(doc, w, h);
+      if (i == 0 && c.status != nullptr) CHECK(member(doc, "status").text == std::string(c.status));
+      const perch::png::decoded_png annotated = decode(picture);
+      CHECK(annotated.width == w);
+      CHECK(annotated.height == h);
+    }
+  }
+}
+
+TEST_CASE("detect: downscaled sites of an odd-height mask stay inside the image") {
+  // The tool's side of the fuzz finding: at --downscale 0.5 the last reduced row of a 5-row
+  // mask is centred at y = 4.5, and the perch was reported at y = 5.
+  const fs::path dir = scratch("detect_odd_downscale");
+  write_bytes(dir / "bar.png", mask_png(120, 5, [](std::uint32_t, std::uint32_t y) { return y == 4; }));
+  const run_result r = run_perch(
+      {"detect", (dir / "bar.png").string(), "--mm-per-px", "30", "--downscale", "0.5", "--no-timing"}, dir);
+  REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+  const json_value doc = check_detect(r.out, 120, 5);
+  REQUIRE(member(doc, "status").text == "ok");
+  check_sites_inside(doc, 120, 5);
+  CHECK(member(member(doc, "perch"), "y").number == 4);
+}
+
+TEST_CASE("detect: bad scale, roll and depth exit 2 naming the problem") {
+  const fs::path dir = scratch("detect_bad_values");
+  const std::string mask = (data / "shape-limb.png").string();
+  perch::image<std::uint16_t> small(400, 300, 3000);
+  REQUIRE(perch::png::write_png(dir / "small.png", perch::image_view<const std::uint16_t>(small.view())).has_value());
+  perch::image<std::uint16_t> invalid(800, 600, 0);
+  REQUIRE(perch::png::write_png(dir / "invalid.png", perch::image_view<const std::uint16_t>(invalid.view())).has_value());
+  // One column narrower than the mask: at --downscale 0.5 both reduce to 400 columns, and the
+  // library used to accept it.
+  perch::image<std::uint16_t> narrow(799, 600, 3000);
+  REQUIRE(perch::png::write_png(dir / "narrow.png", perch::image_view<const std::uint16_t>(narrow.view())).has_value());
+  auto with_depth = [&](const char* file, const char* fx) {
+    return std::vector<std::string>{"detect", mask, "--depth", (dir / file).string(), "--fx", fx, "--fy", "1000",
+                                    "--cx", "400", "--cy", "300"};
+  };
+  auto downscaled = [](std::vector<std::string> args) {
+    args.insert(args.end(), {"--downscale", "0.5"});
+    return args;
+  };
+  struct bad {
+    std::vector<std::string> args;
+    const char* message;
+  };
+  const std::vector<bad> cases = {
+      {{"detect", mask, "--mm-per-px", "nan"}, "expected a number"},
+      {{"detect", mask, "--mm-per-px", "inf"}, "expected a number"},
+      {{"detect", mask, "--mm-per-px", "0"}, "out of range"},
+      {{"detect", mask, "--mm-per-px", "-2"}, "out of range"},
+      {{"detect", mask, "--trunk-mm", "nan"}, "expected a number"},
+      {{"detect", mask, "--trunk-mm", "-inf"}, "expected a number"},
+      {{"detect", mask, "--trunk-mm", "0"}, "out of range"},
+      {{"detect", mask, "--trunk-mm", "-180"}, "out of range"},
+      {{"detect", mask, "--roll-deg", "nan"}, "expected a number"},
+      {{"detect", mask, "--roll-deg", "inf"}, "expected a number"},
+      {{"detect", mask, "--downscale", "0"}, "out of range"},
+      {{"detect", mask, "--downscale", "nan"}, "expected a number"},
+      {with_depth("small.png", "1000"), "same size"},
+      {downscaled(with_depth("narrow.png", "1000")), "same size"},
+      {downscaled(with_depth("invalid.png", "1000")), "no valid"},
+      {with_depth("invalid.png", "1000"), "no valid"},
+      {with_depth("small.png", "nan"), "expected a number"},
+      {with_depth("small.png", "0"), "must be positive"},
+  };
+  for (const bad& b : cases) {
+    std::string shown;
+    for (const auto& a : b.args) shown += a + " ";
+    const run_result r = run_perch(b.args, dir);
+    CHECK_MESSAGE(r.exit_code == 2, shown << "-> " << r.exit_code);
+    CHECK_MESSAGE(r.err.find(b.message) != std::string::npos, shown << "-> " << r.err);
+  }
+}
+
+TEST_CASE("detect: corrupt PNGs exit 2 with the reader's reason; interlaced odd sizes decode") {
+  const fs::path dir = scratch("detect_corrupt_png");
+  const bytes good = mask_png(13, 7, [](std::uint32_t x, std::uint32_t y) { return y >= 2 && y <= 4 && x >= 1; });
+  const bytes ihdr3 = ihdr(3, 3, 8, 0, 0);
+  const bytes z = deflate(bytes(12, 0));  // 3 rows of a filter byte and 3 samples
+  bytes bad_crc = good;
+  bad_crc[8 + 8 + 13] ^= 0x10U;  // the IHDR CRC
+  struct corrupt {
+    const char* name;
+    bytes file;
+    const char* message;
+  };
+  const std::vector<corrupt> cases = {
+      {"truncated", bytes(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(good.size() / 2)), "truncated"},
+      {"bad-crc", bad_crc, "bad CRC"},
+      {"bad-zlib", assemble({{"IHDR", ihdr3}, {"IDAT", {1, 2, 3, 4, 5, 6}}, {"IEND", {}}}), "zlib"},
+      {"chunk-order", assemble({{"IDAT", z}, {"IHDR", ihdr3}, {"IEND", {}}}), "wrong chunk order"},
+      {"huge", assemble({{"IHDR", ihdr(65536, 65536, 8, 0, 0)}, {"IDAT", z}, {"IEND", {}}}), "too large"},
+      {"zero-size", assemble({{"IHDR", ihdr(0, 5, 8, 0, 0)}, {"IDAT", z}, {"IEND", {}}}), "zero width or height"},
+      {"palette-index",
+       assemble({{"IHDR", ihdr(2, 1, 8, 3, 0)}, {"PLTE", {0, 0, 0, 255, 255, 255, 9, 9, 9}},
+                 {"IDAT", deflate(bytes{0, 0, 3})}, {"IEND", {}}}),
+       "palette index out of range"},
+  };
+  for (const corrupt& c : cases) {
+    CAPTURE(c.name);
+    const fs::path file = dir / (std::string(c.name) + ".png");
+    write_bytes(file, c.file);
+    const run_result r = run_perch({"detect", file.string()}, dir);
+    CHECK(r.exit_code == 2);
+    CHECK_MESSAGE(r.err.find(c.message) != std::string::npos, r.err);
+    CHECK_MESSAGE(r.err.find(file.filename().string()) != std::string::npos, r.err);
+  }
+  // Adam7 on odd sizes smaller than and across the 8 × 8 tile gives the same answer as the
+  // plain file, byte for byte.
+  for (const auto& [w, h] : {std::array<std::uint32_t, 2>{1, 1}, {3, 5}, {13, 7}, {200, 9}}) {
+    CAPTURE(w);
+    CAPTURE(h);
+    auto tree = [](std::uint32_t x, std::uint32_t y) { return (x / 3 + y) % 4 != 0; };
+    write_bytes(dir / "plain.png", mask_png(w, h, tree));
+    write_bytes(dir / "adam7.png", mask_png(w, h, tree, 1));
+    const run_result plain = run_perch({"detect", (dir / "plain.png").string(), "--no-timing"}, dir);
+    const run_result adam7 = run_perch({"detect", (dir / "adam7.png").string(), "--no-timing"}, dir);
+    REQUIRE_MESSAGE(adam7.exit_code == 0, adam7.err);
+    REQUIRE(plain.exit_code == 0);
+    check_detect(adam7.out, static_cast<int>(w), static_cast<int>(h));
+    CHECK(adam7.out == plain.out);
   }
 }
 
