@@ -13,6 +13,7 @@
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/row_scan.hpp"
 #include "perch/core/workspace.hpp"
 #include "perch/distance/detail/envelope.hpp"
 
@@ -118,9 +119,9 @@ template <edt_output Out, class Mask, class Dist, class Near>
     }
     int x = 0;
     while (true) {
-      const int a = detail::next_foreground(m, x, w);
+      const int a = detail::next_set(m, x, w);
       if (a == w) break;
-      const int b = detail::next_background(m, a, w) - 1;
+      const int b = detail::next_clear(m, a, w) - 1;
       const int sites = b - a + 3;  // a−1 … b+1
       if constexpr (Out == edt_output::real) {
         float* g = g_real->data();

@@ -105,7 +105,7 @@ struct medial_axis {
     if (!tail_memory) return unexpected{tail_memory.error()};
     buckets q{next_memory->data(), head_memory->data(), tail_memory->data(), img.px};
     if (in_place && dist2.stride() == img.stride) {
-      peel(img, q, key_by_index{dist2.data(), img.stride, cap});
+      peel(img, q, key_by_index{dist2.data(), cap});
     } else {
       peel(img, q, key_by_position{&img, dist2, cap});
     }
@@ -119,13 +119,8 @@ struct medial_axis {
   /// `dist2` is laid out like the working image, else through the pixel's position.
   struct key_by_index {
     const std::uint32_t* d;
-    std::ptrdiff_t stride;
     std::uint32_t cap;
     std::uint32_t operator()(std::ptrdiff_t i) const noexcept { return d[i] < cap ? d[i] : cap; }
-    void prefetch(std::ptrdiff_t i) const noexcept {
-      detail::prefetch(d + i - stride);
-      detail::prefetch(d + i + stride);
-    }
   };
   struct key_by_position {
     const detail::padded_image* img;
@@ -136,7 +131,6 @@ struct medial_axis {
       const std::uint32_t v = dist2(p.x, p.y);
       return v < cap ? v : cap;
     }
-    void prefetch(std::ptrdiff_t) const noexcept {}
   };
 
   /// The monotone bucket queue: FIFO lists per key, linked through `next`; buckets are made
@@ -163,13 +157,22 @@ struct medial_axis {
     }
   };
 
+  /// `next` doubles as the key store: a pixel out of the queue holds its key there (filled in
+  /// one raster pass, so the peeling never reads `dist2`), and a popped pixel the bucket it left,
+  /// which is at least its key and at most any later bucket, so it re-enters at the current one
+  /// as with its key.
   template <class Key>
   static void peel(const detail::padded_image& img, buckets& q, Key key_of) noexcept {
     std::uint8_t* px = img.px;
     std::ptrdiff_t offset[8];
     for (int k = 0; k < 8; ++k) offset[k] = img.offset[k];
-    detail::for_each_border(
-        img, [&](std::ptrdiff_t i) { q.push(static_cast<std::uint32_t>(i), key_of(i)); });
+    detail::for_each_foreground<false>(img, [&](std::ptrdiff_t i) {
+      if (img.on_border(i)) {
+        q.push(static_cast<std::uint32_t>(i), key_of(i));
+      } else {
+        q.next[i] = key_of(i);
+      }
+    });
     for (std::uint32_t current = 0; current <= q.top && q.ready >= 0; ++current) {
       while (q.head[current] != empty) {
         const std::uint32_t i = q.head[current];
@@ -180,10 +183,12 @@ struct medial_axis {
           // while this one is worked on (a hint only; no effect on the result).
           detail::prefetch(px + after - img.stride);
           detail::prefetch(px + after + img.stride);
+          detail::prefetch(q.next + after - img.stride);
           detail::prefetch(q.next + after);
-          key_of.prefetch(static_cast<std::ptrdiff_t>(after));
+          detail::prefetch(q.next + after + img.stride);
         }
         px[i] &= static_cast<std::uint8_t>(~2u);
+        q.next[i] = current;
         const unsigned c = img.code(i);
         if (!detail::deletable_table[c]) continue;
         px[i] = 0;
@@ -191,7 +196,7 @@ struct medial_axis {
         for (unsigned left = c; left != 0; left &= left - 1) {
           const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(i) + offset[std::countr_zero(left)];
           if ((px[n] & 2u) != 0) continue;
-          const std::uint32_t key = key_of(n);
+          const std::uint32_t key = q.next[n];
           q.push(static_cast<std::uint32_t>(n), key > current ? key : current);
         }
       }

@@ -1,6 +1,6 @@
 /// \file
 /// Private helpers of the distance stage: the lower envelope of parabolas of one foreground run
-/// (the second phase of Meijster, Roerdink & Hesselink 2000), and fast row scanning.
+/// (the second phase of Meijster, Roerdink & Hesselink 2000).
 #pragma once
 
 #include <cmath>
@@ -20,29 +20,6 @@ namespace perch::detail {
   if (q * b > a) --q;
   if ((q + 1) * b <= a) ++q;
   return q;
-}
-
-/// Index of the first non-zero element of `row` in [x, w), or w. Skips eight zero bytes at a
-/// time when the elements are one byte wide (the usual mask).
-template <class T>
-[[nodiscard]] inline int next_foreground(const T* row, int x, int w) noexcept {
-  if constexpr (sizeof(T) == 1 && std::is_integral_v<T>) {
-    while (x + 8 <= w) {
-      std::uint64_t word = 0;
-      std::memcpy(&word, row + x, 8);
-      if (word != 0) break;
-      x += 8;
-    }
-  }
-  while (x < w && !static_cast<bool>(row[x])) ++x;
-  return x;
-}
-
-/// Index of the first zero element of `row` in [x, w), or w.
-template <class T>
-[[nodiscard]] inline int next_background(const T* row, int x, int w) noexcept {
-  while (x < w && static_cast<bool>(row[x])) ++x;
-  return x;
 }
 
 /// Meijster et al. 2000, phase 2, for one run of `m` sites `g[0..m)` whose first and last site

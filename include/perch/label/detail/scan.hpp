@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "perch/core/image_view.hpp"
+#include "perch/core/row_scan.hpp"
 #include "perch/label/connectivity.hpp"
 #include "perch/label/detail/equivalence.hpp"
 
@@ -32,32 +33,14 @@ template <polarity P, class V>
 /// True when the rows of `Row` are contiguous bytes that can be read eight pixels at a time.
 template <class Row>
 inline constexpr bool byte_row =
-    sizeof(std::remove_cvref_t<decltype(std::declval<const Row&>()[0])>) == 1 &&
-    std::is_integral_v<std::remove_cvref_t<decltype(std::declval<const Row&>()[0])>> &&
+    byte_pixels<std::remove_cvref_t<decltype(std::declval<const Row&>()[0])>> &&
     requires(const Row& r) { r.data(); };
-
-/// Skips eight-pixel words of a byte row from `x` while all eight pixels are non-zero
-/// (`NonZero` true; the classic has-a-zero-byte test) or all are zero (`NonZero` false).
-template <bool NonZero, class Row>
-[[nodiscard]] inline int skip_words(const Row& row, int x, int width) noexcept {
-  constexpr std::uint64_t ones = 0x0101010101010101u;
-  constexpr std::uint64_t highs = 0x8080808080808080u;
-  const auto* bytes = reinterpret_cast<const unsigned char*>(row.data());
-  while (x + 8 <= width) {
-    std::uint64_t word = 0;
-    std::memcpy(&word, bytes + x, sizeof word);
-    const bool uniform = NonZero ? ((word - ones) & ~word & highs) == 0 : word == 0;
-    if (!uniform) break;
-    x += 8;
-  }
-  return x;
-}
 
 /// First x' ≥ x with a labelled pixel in `row` (of `width` pixels), or `width` if none.
 /// Byte-sized integral masks with contiguous rows are skipped eight pixels at a time.
 template <polarity P, class Row>
 [[nodiscard]] inline int next_labelled(const Row& row, int x, int width) noexcept {
-  if constexpr (byte_row<Row>) x = skip_words<P == polarity::background>(row, x, width);
+  if constexpr (byte_row<Row>) x = skip_words<P == polarity::background>(row.data(), x, width);
   while (x < width && !is_labelled<P>(row[static_cast<std::size_t>(x)])) ++x;
   return x;
 }
@@ -65,7 +48,7 @@ template <polarity P, class Row>
 /// End (one past the last pixel) of the run of labelled pixels starting at `x`.
 template <polarity P, class Row>
 [[nodiscard]] inline int run_end(const Row& row, int x, int width) noexcept {
-  if constexpr (byte_row<Row>) x = skip_words<P == polarity::foreground>(row, x, width);
+  if constexpr (byte_row<Row>) x = skip_words<P == polarity::foreground>(row.data(), x, width);
   while (x < width && is_labelled<P>(row[static_cast<std::size_t>(x)])) ++x;
   return x;
 }

@@ -272,11 +272,11 @@ inline void for_each_foreground(const padded_image& img, Visit&& visit) noexcept
   }
 }
 
-/// Calls `visit(i)` for every foreground pixel of the working image with a background
-/// 4-neighbour, in raster order; eight pixels at a time (their four neighbours are combined
-/// bytewise), skipping background.
-template <class Visit>
-inline void for_each_border(const padded_image& img, Visit&& visit) noexcept {
+/// Calls `visit(i)` for every foreground pixel of the working image (`BorderOnly`: those with a
+/// background 4-neighbour), in raster order; eight pixels at a time, skipping background (for
+/// `BorderOnly`, the four neighbours are combined bytewise).
+template <bool BorderOnly, class Visit>
+inline void for_each_foreground(const padded_image& img, Visit&& visit) noexcept {
   constexpr std::uint64_t ones = 0x0101010101010101ull;
   const std::ptrdiff_t s = img.stride;
   // The rows and columns that may hold foreground (the output's own frame never does).
@@ -293,16 +293,18 @@ inline void for_each_border(const padded_image& img, Visit&& visit) noexcept {
       std::memcpy(&a, p + x, 8);
       a &= ones;
       if (a == 0) continue;
-      std::uint64_t up = 0, down = 0, left = 0, right = 0;
-      std::memcpy(&up, p + x - s, 8);
-      std::memcpy(&down, p + x + s, 8);
-      std::memcpy(&left, p + x - 1, 8);
-      std::memcpy(&right, p + x + 1, 8);
-      for (std::uint64_t b = a & ~(up & down & left & right); b != 0; b &= b - 1)
-        visit(row + x + std::countr_zero(b) / 8);
+      if constexpr (BorderOnly) {
+        std::uint64_t up = 0, down = 0, left = 0, right = 0;
+        std::memcpy(&up, p + x - s, 8);
+        std::memcpy(&down, p + x + s, 8);
+        std::memcpy(&left, p + x - 1, 8);
+        std::memcpy(&right, p + x + 1, 8);
+        a &= ~(up & down & left & right);
+      }
+      for (std::uint64_t b = a; b != 0; b &= b - 1) visit(row + x + std::countr_zero(b) / 8);
     }
     for (; x < x1; ++x)
-      if ((p[x] & 1u) != 0 && img.on_border(row + x)) visit(row + x);
+      if ((p[x] & 1u) != 0 && (!BorderOnly || img.on_border(row + x))) visit(row + x);
   }
 }
 

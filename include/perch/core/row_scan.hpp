@@ -1,0 +1,64 @@
+/// \file
+/// Scanning a mask row for set and clear pixels, eight one-byte pixels at a time (the usual
+/// mask), used by the mask preparation, the distance transform and the labeller.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+namespace perch::detail {
+
+/// True for one-byte integral pixels: eight of them can be tested as one 64-bit word.
+template <class T>
+inline constexpr bool byte_pixels = sizeof(T) == 1 && std::is_integral_v<std::remove_cv_t<T>>;
+
+/// Skips eight-pixel words of a byte row from `x` while all eight pixels are non-zero
+/// (`NonZero` true; the classic has-a-zero-byte test) or all are zero (`NonZero` false).
+template <bool NonZero, class T>
+[[nodiscard]] inline int skip_words(const T* row, int x, int width) noexcept {
+  static_assert(byte_pixels<T>);
+  constexpr std::uint64_t ones = 0x0101010101010101u;
+  constexpr std::uint64_t highs = 0x8080808080808080u;
+  while (x + 8 <= width) {
+    std::uint64_t word = 0;
+    std::memcpy(&word, row + x, sizeof word);
+    const bool uniform = NonZero ? ((word - ones) & ~word & highs) == 0 : word == 0;
+    if (!uniform) break;
+    x += 8;
+  }
+  return x;
+}
+
+/// Index of the first non-zero pixel of `row` in [x, width), or `width`.
+template <class T>
+[[nodiscard]] inline int next_set(const T* row, int x, int width) noexcept {
+  if constexpr (byte_pixels<T>) x = skip_words<false>(row, x, width);
+  while (x < width && !static_cast<bool>(row[x])) ++x;
+  return x;
+}
+
+/// Index of the first zero pixel of `row` in [x, width), or `width`.
+template <class T>
+[[nodiscard]] inline int next_clear(const T* row, int x, int width) noexcept {
+  if constexpr (byte_pixels<T>) x = skip_words<true>(row, x, width);
+  while (x < width && static_cast<bool>(row[x])) ++x;
+  return x;
+}
+
+/// Index of the last non-zero pixel of `row[0, width)`, or -1.
+template <class T>
+[[nodiscard]] inline int last_set(const T* row, int width) noexcept {
+  int x = width - 1;
+  if constexpr (byte_pixels<T>) {
+    for (; x >= 7; x -= 8) {
+      std::uint64_t word = 0;
+      std::memcpy(&word, row + x - 7, sizeof word);
+      if (word != 0) break;
+    }
+  }
+  while (x >= 0 && !static_cast<bool>(row[x])) --x;
+  return x;
+}
+
+}  // namespace perch::detail
