@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 
@@ -15,6 +16,7 @@
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/row_scan.hpp"
 #include "perch/core/workspace.hpp"
 
 namespace perch {
@@ -33,11 +35,18 @@ class tree_pixel_counter {
                                            static_cast<std::size_t>(height_));
     if (!sums) return unexpected{sums.error()};
     sums_ = *sums;
+    // Run by run: constant over background, counting up over tree.
     for (int y = 0; y < height_; ++y) {
       std::uint32_t* row = sums_.data() + static_cast<std::size_t>(y) * stride();
-      const auto in = mask.row(y);
+      const auto* in = mask.data() + static_cast<std::ptrdiff_t>(y) * mask.stride();
+      std::uint32_t sum = 0;
       row[0] = 0;
-      for (std::size_t x = 0; x < in.size(); ++x) row[x + 1] = row[x] + (in[x] ? 1u : 0u);
+      for (int x = 0; x < width_;) {
+        const int tree = detail::next_set(in, x, width_);
+        std::fill(row + x + 1, row + tree + 1, sum);
+        const int end = detail::next_clear(in, tree, width_);
+        for (x = tree; x < end; ++x) row[x + 1] = ++sum;
+      }
     }
     return {};
   }
