@@ -166,7 +166,7 @@ struct medial_axis {
     std::uint8_t* px = img.px;
     std::ptrdiff_t offset[8];
     for (int k = 0; k < 8; ++k) offset[k] = img.offset[k];
-    detail::for_each_foreground<false>(img, [&](std::ptrdiff_t i) {
+    detail::for_each_foreground(img, [&](std::ptrdiff_t i) {
       if (img.on_border(i)) {
         q.push(static_cast<std::uint32_t>(i), key_of(i));
       } else {

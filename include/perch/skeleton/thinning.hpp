@@ -76,7 +76,9 @@ inline status thin_two_subiterations(const neighbourhood_table* tables,
     for (std::size_t k = 0; k < size[sub]; ++k) {
       const std::uint32_t i = list[sub][k];
       px[i] &= static_cast<std::uint8_t>(~flag[sub]);
-      if ((px[i] & 1u) != 0 && table[img.code(i)]) deleted[count++] = i;
+      // Branch-free: whether a listed pixel goes is unpredictable.
+      deleted[count] = i;
+      count += (px[i] & 1u) & static_cast<unsigned>(table[img.code(i)]);
     }
     size[sub] = 0;
     for (std::size_t k = 0; k < count; ++k) px[deleted[k]] &= static_cast<std::uint8_t>(~1u);

@@ -272,42 +272,6 @@ inline void for_each_foreground(const padded_image& img, Visit&& visit) noexcept
   }
 }
 
-/// Calls `visit(i)` for every foreground pixel of the working image (`BorderOnly`: those with a
-/// background 4-neighbour), in raster order; eight pixels at a time, skipping background (for
-/// `BorderOnly`, the four neighbours are combined bytewise).
-template <bool BorderOnly, class Visit>
-inline void for_each_foreground(const padded_image& img, Visit&& visit) noexcept {
-  constexpr std::uint64_t ones = 0x0101010101010101ull;
-  const std::ptrdiff_t s = img.stride;
-  // The rows and columns that may hold foreground (the output's own frame never does).
-  const int x0 = 1 - img.pad;
-  const int x1 = img.width - 1 + img.pad;
-  const int y0 = 1 - img.pad;
-  const int y1 = img.height - 1 + img.pad;
-  for (int y = y0; y < y1; ++y) {
-    const std::ptrdiff_t row = img.index(0, y);
-    const std::uint8_t* p = img.px + row;
-    int x = x0;
-    for (; std::endian::native == std::endian::little && x + 8 <= x1; x += 8) {
-      std::uint64_t a = 0;
-      std::memcpy(&a, p + x, 8);
-      a &= ones;
-      if (a == 0) continue;
-      if constexpr (BorderOnly) {
-        std::uint64_t up = 0, down = 0, left = 0, right = 0;
-        std::memcpy(&up, p + x - s, 8);
-        std::memcpy(&down, p + x + s, 8);
-        std::memcpy(&left, p + x - 1, 8);
-        std::memcpy(&right, p + x + 1, 8);
-        a &= ~(up & down & left & right);
-      }
-      for (std::uint64_t b = a; b != 0; b &= b - 1) visit(row + x + std::countr_zero(b) / 8);
-    }
-    for (; x < x1; ++x)
-      if ((p[x] & 1u) != 0 && (!BorderOnly || img.on_border(row + x))) visit(row + x);
-  }
-}
-
 /// Deletes simple non-end pixels among the neighbours of the pixels in `seeds` (and of what it
 /// deletes), until none is left: the local redundancy sweep after a clean-up change. The seeds
 /// are flagged (bit 1) and distinct; `queue` has room for every pixel.
