@@ -98,6 +98,7 @@ BENCHMARK(perch_edt<true>)->Name("perch_edt/blob50")->Args({1920, 1080})
 #if PERCH_HAVE_OPENCV
 template <bool Blob>
 void opencv_edt(benchmark::State& state) {
+  cv::setNumThreads(1);  // one thread, as perch
   const int w = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
   auto mask = Blob ? blob_mask(w, h) : tree_mask(w, h);
   const cv::Mat m(h, w, CV_8U, mask.data());

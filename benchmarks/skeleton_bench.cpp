@@ -123,6 +123,7 @@ BENCHMARK(guo_faithful)->Name("guo_hall_faithful/tree")->Args({1920, 1080})
 #if PERCH_BENCH_XIMGPROC
 template <class S>
 void opencv_thinning(benchmark::State& state, int type, S faithful) {
+  cv::setNumThreads(1);  // one thread, as perch
   const int w = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
   auto mask = tree_mask(w, h);
   perch::image<std::uint8_t> scaled(w, h);
