@@ -98,17 +98,11 @@ struct medial_axis {
                                              static_cast<std::size_t>(img.height)
                                        : detail::padded_pixels(img.width, img.height);
     auto next_memory = ws.allocate<std::uint32_t>(cells + 16);
-    auto head_memory = ws.allocate<std::uint32_t>(std::size_t{cap} + 1);
-    auto tail_memory = ws.allocate<std::uint32_t>(std::size_t{cap} + 1);
     if (!next_memory) return unexpected{next_memory.error()};
-    if (!head_memory) return unexpected{head_memory.error()};
-    if (!tail_memory) return unexpected{tail_memory.error()};
-    buckets q{next_memory->data(), head_memory->data(), tail_memory->data(), img.px};
-    if (in_place && dist2.stride() == img.stride) {
-      peel(img, q, key_by_index{dist2.data(), cap});
-    } else {
-      peel(img, q, key_by_position{&img, dist2, cap});
-    }
+    const status peeled = in_place && dist2.stride() == img.stride
+                              ? peel(img, next_memory->data(), ws, key_by_index{dist2.data(), cap})
+                              : peel(img, next_memory->data(), ws, key_by_position{&img, dist2, cap});
+    if (!peeled) return peeled;
     if (thinness == perch::thinness::one_pixel)
       (void)detail::remove_blocks(img, mask, dist2, next_memory->data());
     if (!in_place) detail::store_skeleton(img, skeleton);
@@ -160,19 +154,40 @@ struct medial_axis {
   /// `next` doubles as the key store: a pixel out of the queue holds its key there (filled in
   /// one raster pass, so the peeling never reads `dist2`), and a popped pixel the bucket it left,
   /// which is at least its key and at most any later bucket, so it re-enters at the current one
-  /// as with its key.
+  /// as with its key. The same pass finds the largest key, which sizes the buckets, and links the
+  /// border pixels (the first to queue) in raster order.
   template <class Key>
-  static void peel(const detail::padded_image& img, buckets& q, Key key_of) noexcept {
+  [[nodiscard]] static status peel(const detail::padded_image& img, std::uint32_t* next,
+                                   workspace& ws, Key key_of) noexcept {
     std::uint8_t* px = img.px;
-    std::ptrdiff_t offset[8];
-    for (int k = 0; k < 8; ++k) offset[k] = img.offset[k];
+    std::uint32_t top_key = 0;
+    std::uint32_t border_first = empty;
+    std::uint32_t border_last = empty;
     detail::for_each_foreground(img, [&](std::ptrdiff_t i) {
+      const std::uint32_t key = key_of(i);
+      top_key = key > top_key ? key : top_key;
+      const auto u = static_cast<std::uint32_t>(i);
       if (img.on_border(i)) {
-        q.push(static_cast<std::uint32_t>(i), key_of(i));
+        (border_first == empty ? border_first : next[border_last]) = u;
+        border_last = u;
       } else {
-        q.next[i] = key_of(i);
+        next[u] = key;
       }
     });
+    if (border_last != empty) next[border_last] = empty;
+    auto head_memory = ws.allocate<std::uint32_t>(std::size_t{top_key} + 1);
+    auto tail_memory = ws.allocate<std::uint32_t>(std::size_t{top_key} + 1);
+    if (!head_memory) return unexpected{head_memory.error()};
+    if (!tail_memory) return unexpected{tail_memory.error()};
+    buckets q{next, head_memory->data(), tail_memory->data(), px};
+    for (std::uint32_t u = border_first; u != empty;) {
+      const std::uint32_t after = next[u];
+      q.push(u, key_of(static_cast<std::ptrdiff_t>(u)));
+      u = after;
+    }
+
+    std::ptrdiff_t offset[8];
+    for (int k = 0; k < 8; ++k) offset[k] = img.offset[k];
     for (std::uint32_t current = 0; current <= q.top && q.ready >= 0; ++current) {
       while (q.head[current] != empty) {
         const std::uint32_t i = q.head[current];
@@ -201,6 +216,7 @@ struct medial_axis {
         }
       }
     }
+    return {};
   }
 };
 
