@@ -199,3 +199,39 @@ TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known 
   CHECK(rate >= 0.88);           // regression floor at the measured level (88.6 %)
   CHECK(wrong_when_none <= 2);   // measured: 2 natural trees without a truth perch get one
 }
+
+TEST_CASE("find_perch: the accuracy cost of perch_options::downscale (issue 8)") {
+  // The same population analysed at reduced resolution. These trees are 480-960 px wide, so
+  // factor 0.25 leaves 120-240 px and limbs of 2-8 px: a harsh test, reported for the README.
+  perch::workspace ws;
+  for (const float factor : {0.5f, 0.25f}) {
+    perch::perch_options options;
+    options.downscale = factor;
+    int with_truth = 0, correct = 0, without_truth = 0, wrong_when_none = 0, errors = 0;
+    for (int i = 0; i < population_size; ++i) {
+      const member m = population(i);
+      const st::synthetic_tree tree = st::make_tree(m.options);
+      const st::perch_truth truth(tree);
+      auto found = perch::find_perch(tree.mask.view(), perch::tendon_claw{},
+                                     perch::fixed_scale{tree.mm_per_px}, ws, options);
+      if (!found) {
+        ++errors;
+        continue;
+      }
+      const bool has = truth.has_perch();
+      (has ? with_truth : without_truth) += 1;
+      if (found->outcome != perch::perch_outcome::found) continue;
+      const perch::pixel c = found->sites.front().window.centre;
+      const Eigen::Vector2f p(static_cast<float>(c.x), static_cast<float>(c.y));
+      if (!has) ++wrong_when_none;
+      if (has && truth.nearest_site(p).distance_px <= tolerance_px(truth)) ++correct;
+    }
+    const double rate = static_cast<double>(correct) / static_cast<double>(with_truth);
+    MESSAGE("downscale " << factor << ": success rate where a perch exists " << 100.0 * rate
+                         << " % (" << correct << " of " << with_truth << "); a perch where none exists "
+                         << wrong_when_none << " of " << without_truth);
+    CHECK(errors == 0);
+    // Regression floors at the measured levels (69.5 % at 0.5, 62.3 % at 0.25).
+    CHECK(rate >= (factor == 0.5f ? 0.68 : 0.60));
+  }
+}
