@@ -38,7 +38,7 @@ class tree_pixel_counter {
     // Run by run: constant over background, counting up over tree.
     for (int y = 0; y < height_; ++y) {
       std::uint32_t* row = sums_.data() + static_cast<std::size_t>(y) * stride();
-      const auto* in = mask.data() + static_cast<std::ptrdiff_t>(y) * mask.stride();
+      const auto* in = detail::row_pointer(mask, y);
       std::uint32_t sum = 0;
       row[0] = 0;
       for (int x = 0; x < width_;) {

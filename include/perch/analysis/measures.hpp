@@ -32,7 +32,7 @@ struct window_measures {
   float slope_fit_deg = 0;      ///< same, from an orthogonal least-squares line fit
   float curvature_max_per_mm = 0;   ///< max |κ| of the smoothed curvature over the window
   float curvature_mean_per_mm = 0;  ///< mean |κ| over the window
-  float diameter_min_mm = 0;    ///< minimum diameter over the window (2·d − 1 px, scaled)
+  float diameter_min_mm = 0;    ///< minimum of the branch's diameters over the window
   float diameter_max_mm = 0;    ///< maximum diameter over the window
   float diameter_mean_mm = 0;   ///< mean diameter over the window
   float claw_diameter_mm = 0;   ///< mean diameter over the central claw region

@@ -34,7 +34,7 @@ template <BinaryView Mask>
   pixel_box box{mask.width(), mask.height(), -1, -1};
   const int w = mask.width();
   for (int y = 0; y < mask.height(); ++y) {
-    const auto* row = mask.data() + static_cast<std::ptrdiff_t>(y) * mask.stride();
+    const auto* row = detail::row_pointer(mask, y);
     const int first = detail::next_set(row, 0, w);
     if (first == w) continue;
     box.x_min = std::min(box.x_min, first);

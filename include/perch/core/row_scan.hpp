@@ -1,13 +1,21 @@
 /// \file
-/// Scanning a mask row for set and clear pixels, eight one-byte pixels at a time (the usual
-/// mask), used by the mask preparation, the distance transform and the labeller.
+/// Rows of an image view, and scanning a mask row for set and clear pixels, eight one-byte
+/// pixels at a time (the usual mask); used by the mask preparation, the distance transform, the
+/// labeller and the clearance counter.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <type_traits>
 
 namespace perch::detail {
+
+/// Pointer to the first pixel of row `y` of an image view.
+template <class V>
+[[nodiscard]] constexpr auto* row_pointer(const V& view, int y) noexcept {
+  return view.data() + static_cast<std::ptrdiff_t>(y) * view.stride();
+}
 
 /// True for one-byte integral pixels: eight of them can be tested as one 64-bit word.
 template <class T>

@@ -46,11 +46,6 @@ namespace detail {
 
 enum class edt_output : std::uint8_t { squared, nearest, real };
 
-template <class V>
-[[nodiscard]] constexpr auto* row_pointer(const V& view, int y) noexcept {
-  return view.data() + static_cast<std::ptrdiff_t>(y) * view.stride();
-}
-
 /// The transform itself; `Out` is the output kind, `near` is used for `edt_output::nearest`.
 template <edt_output Out, class Mask, class Dist, class Near>
 [[nodiscard]] status distance_transform_impl(const Mask& mask, const Dist& dist, const Near& near,

@@ -215,8 +215,9 @@ inline void apply_weights(skeleton_graph::topology_type& g, float alpha) noexcep
   };
 
   // Whether leaf edge `e` is where the branch at `stem` goes on: the longest leaf (ties: the
-  // lowest id; a leaf to the trunk node always wins) of a stem with at most one non-leaf edge. Removing it would cut the branch
-  // short (a round tip forks into two spurs; a spur near a tip sits beside the tip's segment).
+  // lowest id; a leaf to the trunk node always wins) of a stem with at most one non-leaf edge.
+  // Removing it would cut the branch short (a round tip forks into two spurs; a spur near a tip
+  // sits beside the tip's segment).
   auto continues_through = [&](node_id stem, edge_id e) {
     int non_leaf = 0;
     for (const edge_id f : g.incident_edges(stem)) {

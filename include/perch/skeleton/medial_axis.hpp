@@ -99,12 +99,13 @@ struct medial_axis {
                                        : detail::padded_pixels(img.width, img.height);
     auto next_memory = ws.allocate<std::uint32_t>(cells + 16);
     if (!next_memory) return unexpected{next_memory.error()};
+    std::uint32_t* next = next_memory->data();
     const status peeled = in_place && dist2.stride() == img.stride
-                              ? peel(img, next_memory->data(), ws, key_by_index{dist2.data(), cap})
-                              : peel(img, next_memory->data(), ws, key_by_position{&img, dist2, cap});
+                              ? peel(img, next, ws, key_by_index{dist2.data(), cap})
+                              : peel(img, next, ws, key_by_position{&img, dist2, cap});
     if (!peeled) return peeled;
     if (thinness == perch::thinness::one_pixel)
-      (void)detail::remove_blocks(img, mask, dist2, next_memory->data());
+      (void)detail::remove_blocks(img, mask, dist2, next);
     if (!in_place) detail::store_skeleton(img, skeleton);
     return {};
   }
@@ -191,19 +192,19 @@ struct medial_axis {
     for (std::uint32_t current = 0; current <= q.top && q.ready >= 0; ++current) {
       while (q.head[current] != empty) {
         const std::uint32_t i = q.head[current];
-        const std::uint32_t after = q.next[i];
+        const std::uint32_t after = next[i];
         q.head[current] = after;
         if (after != empty) {
           // The pixels of a level lie all over the image: fetch the next one's neighbourhood
           // while this one is worked on (a hint only; no effect on the result).
           detail::prefetch(px + after - img.stride);
           detail::prefetch(px + after + img.stride);
-          detail::prefetch(q.next + after - img.stride);
-          detail::prefetch(q.next + after);
-          detail::prefetch(q.next + after + img.stride);
+          detail::prefetch(next + after - img.stride);
+          detail::prefetch(next + after);
+          detail::prefetch(next + after + img.stride);
         }
         px[i] &= static_cast<std::uint8_t>(~2u);
-        q.next[i] = current;
+        next[i] = current;
         const unsigned c = img.code(i);
         if (!detail::deletable_table[c]) continue;
         px[i] = 0;
@@ -211,7 +212,7 @@ struct medial_axis {
         for (unsigned left = c; left != 0; left &= left - 1) {
           const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(i) + offset[std::countr_zero(left)];
           if ((px[n] & 2u) != 0) continue;
-          const std::uint32_t key = q.next[n];
+          const std::uint32_t key = next[n];
           q.push(static_cast<std::uint32_t>(n), key > current ? key : current);
         }
       }
