@@ -3,7 +3,6 @@
 /// horizontal, curvature, diameters, monotonicity; and the per-branch profiles they read.
 #pragma once
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -132,20 +131,30 @@ inline void curvature_profile(std::span<const pixel> points, std::span<float> cu
 }
 
 /// Slope (°) of the orthogonal least-squares line through `points` against horizon `h`
-/// (total least squares: the principal axis of the points' covariance, via Eigen).
+/// (total least squares: the principal axis of the points' covariance [[a, b], [b, c]], whose
+/// angle is ½·atan2(2b, a − c) in closed form for a symmetric 2 × 2 matrix; a general
+/// eigensolver would cost every including file seconds of compile time).
 [[nodiscard]] inline float fitted_slope_deg(std::span<const pixel> points, point2f h) noexcept {
   if (points.size() < 2) return 0.0f;
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  for (const pixel p : points) mean += Eigen::Vector2d(p.x, p.y);
-  mean /= static_cast<double>(points.size());
-  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  double mx = 0, my = 0;
   for (const pixel p : points) {
-    const Eigen::Vector2d d = Eigen::Vector2d(p.x, p.y) - mean;
-    cov += d * d.transpose();
+    mx += p.x;
+    my += p.y;
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(cov);
-  const Eigen::Vector2d axis = solver.eigenvectors().col(1);  // largest eigenvalue
-  return slope_to_horizon_deg(axis.cast<float>(), h);
+  const auto n = static_cast<double>(points.size());
+  mx /= n;
+  my /= n;
+  double a = 0, b = 0, c = 0;
+  for (const pixel p : points) {
+    const double dx = p.x - mx;
+    const double dy = p.y - my;
+    a += dx * dx;
+    b += dx * dy;
+    c += dy * dy;
+  }
+  const double angle = 0.5 * std::atan2(2.0 * b, a - c);
+  const point2f axis(static_cast<float>(std::cos(angle)), static_cast<float>(std::sin(angle)));
+  return slope_to_horizon_deg(axis, h);
 }
 
 /// Largest step backwards (px) along the chord from `points.front()` to `points.back()`: the
