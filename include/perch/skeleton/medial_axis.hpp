@@ -128,18 +128,15 @@ struct medial_axis {
     }
   };
 
-  /// The monotone bucket queue: FIFO lists per key, linked through `next`; buckets are made
-  /// empty lazily, up to the largest key pushed so far. Bit 1 of a pixel flags it as queued.
+  /// The monotone bucket queue: FIFO lists per key, linked through `next`, heads and tails
+  /// per key up to the largest key present. Bit 1 of a pixel flags it as queued.
   struct buckets {
     std::uint32_t* next;
     std::uint32_t* head;
     std::uint32_t* tail;
     std::uint8_t* px;
-    std::int64_t ready = -1;
-    std::uint32_t top = 0;
 
     void push(std::uint32_t u, std::uint32_t key) noexcept {
-      while (ready < static_cast<std::int64_t>(key)) head[++ready] = empty;
       next[u] = empty;
       if (head[key] == empty) {
         head[key] = u;
@@ -147,7 +144,6 @@ struct medial_axis {
         next[tail[key]] = u;
       }
       tail[key] = u;
-      if (key > top) top = key;
       px[u] |= 2u;
     }
   };
@@ -181,6 +177,7 @@ struct medial_axis {
     if (!head_memory) return unexpected{head_memory.error()};
     if (!tail_memory) return unexpected{tail_memory.error()};
     buckets q{next, head_memory->data(), tail_memory->data(), px};
+    for (std::uint32_t k = 0; k <= top_key; ++k) q.head[k] = empty;
     for (std::uint32_t u = border_first; u != empty;) {
       const std::uint32_t after = next[u];
       q.push(u, key_of(static_cast<std::ptrdiff_t>(u)));
@@ -189,7 +186,7 @@ struct medial_axis {
 
     std::ptrdiff_t offset[8];
     for (int k = 0; k < 8; ++k) offset[k] = img.offset[k];
-    for (std::uint32_t current = 0; current <= q.top && q.ready >= 0; ++current) {
+    for (std::uint32_t current = 0; current <= top_key; ++current) {
       while (q.head[current] != empty) {
         const std::uint32_t i = q.head[current];
         const std::uint32_t after = next[i];
