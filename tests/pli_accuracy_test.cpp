@@ -3,12 +3,14 @@
 // stretch (examples/support/support/synthetic_tree.hpp, `perch_truth`) in ≥ 95 % of the trees that
 // have one, and trees built without any feasible perch must give `no_perch`.
 //
-// STATUS: the pipeline reaches 88.6 % (issue 5 stays open). Of the 19 misses, 7 are "no perch
-// though one exists" and 4 "diameter": windows whose claw-region diameter is within a pixel of
-// the claw's 30 mm minimum, where eq. 3 pushes the ranking and where a mask cannot tell 29.5 from
-// 30.5 mm; 4 are windows ending inside a parent at a narrow fork ("junction"); the printed
-// failures say which. The checks below hold the measured level as a regression floor; the
-// issue's 95 % target is printed beside it, not asserted.
+// STATUS: the pipeline reaches 89.2 % (issue 5 stays open). Of the 18 misses, 7 are "no perch
+// though one exists" (the true stretch spans a junction with a limb that is not a side twig, a
+// small hole in the limb, or is barely one window long), 3 "diameter": windows whose
+// claw-region diameter is within a pixel of the claw's 30 mm minimum, where eq. 3 pushes the
+// ranking and where a mask cannot tell 29.5 from 30.5 mm; 4 are windows ending inside a parent at
+// a narrow fork ("junction"); the printed failures say which. The checks below hold the
+// measured level as a regression floor; the issue's 95 % target is printed beside it, not
+// asserted.
 #include "perch/pli.hpp"
 
 #include <doctest/doctest.h>
@@ -196,7 +198,7 @@ TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known 
   CHECK(without_truth >= 20);
   CHECK(with_truth >= 100);
   MESSAGE("issue 5 target: 95 % where a perch exists; measured " << 100.0 * rate << " %");
-  CHECK(rate >= 0.88);           // regression floor at the measured level (88.6 %)
+  CHECK(rate >= 0.89);           // regression floor at the measured level (89.2 %)
   CHECK(wrong_when_none <= 2);   // measured: 2 natural trees without a truth perch get one
 }
 

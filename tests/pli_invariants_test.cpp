@@ -97,9 +97,13 @@ void check_invariants(const image<std::uint8_t>& mask, const Platform& platform,
       const perch::pixel local{m.centre.x - r.mask.offset.x, m.centre.y - r.mask.offset.y};
       REQUIRE(r.skeleton.contains(local.x, local.y));
       CHECK(r.skeleton(local.x, local.y) != 0);
-      const auto points = r.graph.branch(m.branch).points;
-      REQUIRE(m.middle < points.size());
-      CHECK(points[m.middle] == local);
+      REQUIRE(m.limb >= 0);
+      REQUIRE(static_cast<std::size_t>(m.limb) < r.limbs.size());
+      const perch::skeleton_limb& limb = r.limbs[static_cast<std::size_t>(m.limb)];
+      REQUIRE(m.middle < limb.points.size());
+      CHECK(limb.points[m.middle] == local);
+      CHECK(m.branch == limb.edge_at[m.middle]);
+      CHECK(r.graph.contains_branch(m.branch));
     }
     for (const float v : {s.penalty, m.slope_deg, m.slope_fit_deg, m.claw_diameter_mm,
                           m.diameter_mean_mm, m.diameter_min_mm, m.diameter_max_mm,

@@ -69,6 +69,32 @@ TEST_CASE("find_perch: a T tree perches on the limb, level, at its diameter") {
   }
 }
 
+TEST_CASE("find_perch: windows run along a limb through the junction where a twig leaves") {
+  // A level limb 17 px (34 mm) thick, 150 px long, with a 2 px twig rising from its middle: each
+  // half is shorter than the 90 px window, the limb is not.
+  image<std::uint8_t> mask(200, 60);
+  capsule(mask, {25, 40}, {175, 40}, 8.5f);
+  capsule(mask, {100, 40}, {100, 2}, 1.0f);
+  perch::workspace ws;
+  auto found = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
+  REQUIRE(found);
+  REQUIRE(found->outcome == perch_outcome::found);
+  const perch::perch_site& best = found->sites.front();
+  const perch::skeleton_limb& limb = found->limbs[static_cast<std::size_t>(best.window.limb)];
+  const perch::pixel first = limb.points[best.window.first];
+  const perch::pixel last = limb.points[best.window.last];
+  CHECK(std::min(first.x, last.x) + found->mask.offset.x < 100);
+  CHECK(std::max(first.x, last.x) + found->mask.offset.x > 100);
+  CHECK(std::abs(best.window.centre.y - 40) <= 1);
+  // Without joining limbs through side twigs, no window fits.
+  perch::perch_options options;
+  options.limbs.side_area_share_max = 0.0f;
+  auto split = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws,
+                                 options);
+  REQUIRE(split);
+  CHECK(split->outcome == perch_outcome::no_perch);
+}
+
 TEST_CASE("find_perch: slope of the limb is measured and constrained") {
   perch::workspace ws;
   for (const float angle : {10.0f, 20.0f, 30.0f}) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -38,11 +39,10 @@ struct frame {
 
 std::vector<draw_point> window_points(const frame& f, const window_measures& m) {
   std::vector<draw_point> out;
-  const skeleton_graph& g = f.r.graph;
-  if (m.branch < 0 || !g.contains_branch(m.branch)) return out;
-  const skeleton_branch b = g.branch(m.branch);
-  for (std::size_t i = m.first; i <= m.last && i < b.points.size(); ++i)
-    out.push_back(f.at(b.points[i]));
+  if (m.limb < 0 || static_cast<std::size_t>(m.limb) >= f.r.limbs.size()) return out;
+  const std::span<const pixel> points = f.r.limbs[static_cast<std::size_t>(m.limb)].points;
+  for (std::size_t i = m.first; i <= m.last && i < points.size(); ++i)
+    out.push_back(f.at(points[i]));
   return out;
 }
 

@@ -48,6 +48,7 @@ struct perch_options {
   float stride_mm = 20.0f;             ///< distance between window starts
   float curvature_stencil_mm = 40.0f;  ///< see `window_options::curvature_stencil_mm`
   prune_options pruning{};             ///< eq. 1 weights and pruning thresholds
+  limb_options limbs{};                ///< when windows run on through a junction
   rank_options ranking{};              ///< top-k and the distance between ranked sites
   std::size_t max_windows = std::size_t{1} << 18;  ///< capacity: windows over the whole tree
   clock_ns_fn clock = nullptr;         ///< stage timings when given
@@ -60,6 +61,7 @@ struct perch_options {
     if (ranking.top_k == 0 || !(ranking.site_separation_mm >= 0))
       return fail(errc::invalid_parameter, "perch_options.ranking");
     if (max_windows == 0) return fail(errc::invalid_parameter, "perch_options.max_windows");
+    if (auto limbs_ok = limbs.validate(); !limbs_ok) return limbs_ok;
     return camera.validate();
   }
 };
@@ -87,7 +89,8 @@ enum class perch_outcome : std::uint8_t {
 /// workspace's next `reset()` (the next `find_perch` call on it).
 ///
 /// Coordinates: `sites[i].window.centre` and `near_misses[i].window.centre` are in input-image
-/// pixels; `window.first/last/middle` index the branch's polyline (`graph.branch(id).points`). The graph, skeleton and
+/// pixels; `window.first/last/middle` index the limb's polyline (`limbs[window.limb].points`;
+/// `window.branch` is the graph edge under `middle`). The graph, limbs, skeleton and
 /// distance map are in the analysed frame: local coordinates + `mask.offset`, and
 /// `mask.to_input()` maps the analysed frame to input pixels (identity without downscale).
 /// Lengths in px inside `window_measures` are analysed-frame pixels; everything in mm is metric.
@@ -106,6 +109,7 @@ struct perch_result {
   image_view<const std::uint32_t> dist2{};    ///< squared distance map, local coordinates
   image_view<const std::uint8_t> skeleton{};  ///< skeleton (1/0), local coordinates
   skeleton_graph graph{};                     ///< after pruning, local coordinates
+  std::span<const skeleton_limb> limbs{};     ///< the graph's edges chained into limbs
   prune_report pruning{};                     ///< what pruning removed
   stage_timings timing{};
 };
@@ -169,8 +173,7 @@ struct junction_limb {
 
 /// The limb of branch `other` (walked from node `n` by `in`) as seen from branch `own`, whose
 /// points are walked from `n` by `own_points` (index 0 next to the node).
-/// Its axis is the chord of `other`'s points between r(n) and r(n) + max(3·r(n), 8 px) from the
-/// node (beyond the node's cluster, where the medial axis bends toward it); its base is the
+/// Its axis is `other`'s chord just beyond the node (`leaving_axis_of`); its base is the
 /// first of `own`'s points (within `reach_px` of the node) that lies on that axis (within 1 px)
 /// or where the axis crosses `own`'s centreline; when there is none (a limb continuing this one
 /// at a slight offset), the point next to the node.
@@ -180,29 +183,11 @@ template <class OwnAt>
                                                     std::size_t own_count,
                                                     float reach_px) noexcept {
   junction_limb out;
-  const std::size_t count = other.points.size();
+  const leaving_axis axis = leaving_axis_of(other, dir, node);
+  if (!axis.valid) return out;
   const point2f centre = to_point(node.position);
-  const float near = node.radius_px;
-  const float far = node.radius_px + std::max(3.0f * node.radius_px, 8.0f);
-  std::size_t first = count, last = count;
-  float radius_sum = 0;
-  std::size_t radius_n = 0;
-  for (std::size_t k = 0; k < count; ++k) {
-    const std::size_t i = dir == traversal::forward ? k : count - 1 - k;
-    const float d = (to_point(other.points[i]) - centre).norm();
-    if (d > far) break;
-    if (d < near) continue;
-    if (first == count) first = i;
-    last = i;
-    radius_sum += other.radius_px[i];
-    ++radius_n;
-  }
-  if (radius_n < 2) return out;
-  const point2f a = to_point(other.points[first]);
-  const point2f chord = to_point(other.points[last]) - a;
-  const float length = chord.norm();
-  if (!(length > 0)) return out;
-  const point2f u = chord / length;
+  const point2f a = axis.start;
+  const point2f u = axis.direction;
   auto signed_distance = [&](point2f p) {
     const point2f v = p - a;
     return u.x() * v.y() - u.y() * v.x();
@@ -228,7 +213,7 @@ template <class OwnAt>
   const point2f p = to_point(own_at(best));
   out.base = a + u * u.dot(p - a);
   out.direction = u;
-  out.radius_px = radius_sum / static_cast<float>(radius_n);
+  out.radius_px = axis.radius_px;
   out.valid = true;
   return out;
 }
@@ -245,10 +230,12 @@ template <class OwnAt>
 /// window then starts where the branch is clear of every limb at the junction, however oblique
 /// the fork. At a tip, the points within their own radius (arc length) of the end are left out:
 /// the medial axis runs on into the tip's round cap, past where the limb's axis ends. Loops keep
-/// all their points.
+/// all their points. `at_from` / `at_to`: whether to trim at that end at all.
 /// Complexity: O(points of the branches at the junction within a few node radii).
 [[nodiscard]] inline branch_stretch outside_junctions(const skeleton_graph& graph,
-                                                      const skeleton_branch& b) noexcept {
+                                                      const skeleton_branch& b,
+                                                      bool at_from = true,
+                                                      bool at_to = true) noexcept {
   auto distance2 = [](pixel a, pixel c) {
     const float dx = static_cast<float>(a.x - c.x);
     const float dy = static_cast<float>(a.y - c.y);
@@ -308,8 +295,36 @@ template <class OwnAt>
     while (k < limit && inside(at(k))) ++k;
     return k;
   };
-  const std::size_t front = trim(b.from, [](std::size_t k) { return k; }, n);
-  const std::size_t back = trim(b.to, [n](std::size_t k) { return n - 1 - k; }, n - front);
+  const std::size_t front = at_from ? trim(b.from, [](std::size_t k) { return k; }, n) : 0;
+  const std::size_t back =
+      at_to ? trim(b.to, [n](std::size_t k) { return n - 1 - k; }, n - front) : 0;
+  return {front, n - front - back};
+}
+
+/// The part of a limb's polyline outside the junctions at its two ends (`outside_junctions` of
+/// its first and last edges there; a limb runs through its inner junctions untrimmed: only
+/// side twigs leave there). A closed limb keeps all its points.
+[[nodiscard]] inline branch_stretch limb_stretch(const skeleton_graph& graph,
+                                                 std::span<const std::int32_t> next,
+                                                 const skeleton_limb& limb) noexcept {
+  const std::size_t n = limb.points.size();
+  if (next[limb.first_end] >= 0) return {0, n};  // closed
+  const auto edge_of = [&](std::size_t end) { return graph.branch(static_cast<edge_id>(end / 2)); };
+  const skeleton_branch first = edge_of(limb.first_end);
+  const bool first_at_from = limb.first_end % 2 == 0;
+  // Points trimmed at edge end `end` of edge `b` (`b`'s other end untrimmed unless `both`).
+  auto trimmed = [&](const skeleton_branch& b, bool at_from, bool both) -> std::pair<std::size_t, std::size_t> {
+    const branch_stretch s = outside_junctions(graph, b, at_from || both, !at_from || both);
+    const std::size_t from_side = s.first;
+    const std::size_t to_side = b.points.size() - s.first - s.count;
+    return at_from ? std::pair{from_side, to_side} : std::pair{to_side, from_side};
+  };
+  if (limb.first_end / 2 == limb.last_end / 2) {  // one edge
+    const auto [front, back] = trimmed(first, first_at_from, true);
+    return {front, n - front - back};
+  }
+  const std::size_t front = trimmed(first, first_at_from, false).first;
+  const std::size_t back = trimmed(edge_of(limb.last_end), limb.last_end % 2 == 0, false).first;
   return {front, n - front - back};
 }
 
@@ -334,6 +349,10 @@ template <class OwnAt>
   bytes += skeleton_workspace_bytes(w, h);
   bytes += skeleton_graph_workspace_bytes(w, h, n);
   bytes += tree_pixel_counter::workspace_bytes(w, h);
+  // Limbs: continuations, the limbs (at most one per edge, at most one edge per skeleton
+  // pixel) and their stretches.
+  bytes += workspace::footprint<std::int32_t>(2 * n) + trace_limbs_workspace_bytes(n, n) +
+           workspace::footprint<detail::branch_stretch>(n);
   bytes += workspace::footprint<window_measures>(options.max_windows);
   bytes += 2 * workspace::footprint<float>(n) + (std::size_t{64} << 10);
   return bytes;
@@ -455,13 +474,19 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   out.pruning = *report;
   out.timing.prune_ms = clock.lap();
 
-  // 5. Windows along every branch outside the junctions' bodies, oriented from the end nearer
-  //    the trunk.
+  // 5. Windows along every limb (edges chained through the junctions where only side twigs
+  //    leave) outside the junctions' bodies at its ends, oriented from the end nearer the trunk.
   auto node_distance = ws.allocate<float>(static_cast<std::size_t>(graph.topology().node_id_end()));
-  auto stretches = ws.allocate<detail::branch_stretch>(static_cast<std::size_t>(graph.topology().edge_id_end()));
+  auto next = ws.allocate<std::int32_t>(2 * static_cast<std::size_t>(graph.topology().edge_id_end()));
   if (!node_distance) return unexpected{node_distance.error()};
-  if (!stretches) return unexpected{stretches.error()};
+  if (!next) return unexpected{next.error()};
   PERCH_TRY(distances_to_trunk(graph, *node_distance, ws));
+  limb_continuations(graph, *next, options.limbs);
+  auto traced = trace_limbs(graph, *next, ws);
+  if (!traced) return unexpected{traced.error()};
+  out.limbs = *traced;
+  auto stretches = ws.allocate<detail::branch_stretch>(out.limbs.size());
+  if (!stretches) return unexpected{stretches.error()};
   window_options geometry;
   geometry.drone_width_mm = platform.geometry.drone_width_mm;
   geometry.claw_width_mm = platform.geometry.claw_width_mm;
@@ -474,12 +499,12 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   std::size_t longest = 0;
   std::size_t bound = 0;
   const float stride_px = options.stride_mm / mm_per_px;
-  graph.for_each_branch([&](const skeleton_branch& b) {
-    const detail::branch_stretch stretch = detail::outside_junctions(graph, b);
-    (*stretches)[static_cast<std::size_t>(b.id)] = stretch;
+  for (std::size_t l = 0; l < out.limbs.size(); ++l) {
+    const detail::branch_stretch stretch = detail::limb_stretch(graph, *next, out.limbs[l]);
+    (*stretches)[l] = stretch;
     longest = std::max(longest, stretch.count);
     bound += static_cast<std::size_t>(1.5f * static_cast<float>(stretch.count) / stride_px) + 1;
-  });
+  }
   auto windows = bounded_vector<window_measures>::make(ws, std::min(bound, options.max_windows));
   if (!windows) return unexpected{windows.error()};
   auto window_scratch = ws.allocate<float>(window_scratch_floats(longest));
@@ -487,20 +512,27 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   if (!window_scratch) return unexpected{window_scratch.error()};
   if (!diameters) return unexpected{diameters.error()};
   status measured{};
-  graph.for_each_branch([&](const skeleton_branch& b) {
-    if (!measured) return;
-    const float from = (*node_distance)[static_cast<std::size_t>(b.from)];
-    const float to = (*node_distance)[static_cast<std::size_t>(b.to)];
-    const detail::branch_stretch stretch = (*stretches)[static_cast<std::size_t>(b.id)];
-    const auto points = b.points.subspan(stretch.first, stretch.count);
-    const auto radii = b.radius_px.subspan(stretch.first, stretch.count);
+  auto end_node = [&](std::size_t end) {
+    const skeleton_branch e = graph.branch(static_cast<edge_id>(end / 2));
+    return end % 2 == 0 ? e.from : e.to;
+  };
+  for (std::size_t l = 0; l < out.limbs.size() && measured; ++l) {
+    const skeleton_limb& limb = out.limbs[l];
+    const float from = (*node_distance)[static_cast<std::size_t>(end_node(limb.first_end))];
+    const float to = (*node_distance)[static_cast<std::size_t>(end_node(limb.last_end))];
+    const detail::branch_stretch stretch = (*stretches)[l];
+    const auto points = limb.points.subspan(stretch.first, stretch.count);
+    const auto radii = limb.radius_px.subspan(stretch.first, stretch.count);
     const std::span<float> widths = diameters->first(stretch.count);
     cross_section_diameters(image_view<const std::uint8_t>(local), points, radii, widths);
-    branch_geometry g{points, radii, b.id, b.component,
+    branch_geometry g{points, radii, static_cast<std::int32_t>(l), limb.component,
                       to < from ? origin_end::back : origin_end::front, prepared->offset,
                       static_cast<std::uint32_t>(stretch.first), widths};
+    const std::size_t before = windows->size();
     measured = measure_windows(g, *scaled, mm_per_px, *window_scratch, *windows, geometry);
-  });
+    for (window_measures& window : windows->items().subspan(before))
+      window.branch = limb.edge_at[window.middle];
+  }
   PERCH_TRY(measured);
   out.windows = static_cast<std::uint32_t>(windows->size());
   out.timing.windows_ms = clock.lap();
@@ -510,7 +542,7 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   PERCH_TRY(tree.build(image_view<const std::uint8_t>(local), ws));
   const point2f up = options.camera.up();
   auto make_context = [&](const window_measures& m) {
-    const std::span<const pixel> points = graph.branch(m.branch).points;
+    const std::span<const pixel> points = out.limbs[static_cast<std::size_t>(m.limb)].points;
     const pixel mid = points[m.middle];
     return window_context(tree, m, to_point(points[m.first]), to_point(points[m.last]),
                           std::sqrt(static_cast<float>(dist(mid.x, mid.y))), up);

@@ -116,7 +116,7 @@ TEST_CASE("windows: one drone width long, by stride, never past the branch end")
   REQUIRE(perch::measure_windows(branch, perch::fixed_scale{2.0f}, 2.0f, scratch, *out));
   REQUIRE(out->size() == 22);
   const auto& w = (*out)[0];
-  CHECK(w.branch == 3);
+  CHECK(w.limb == 3);
   CHECK(w.component == 1);
   CHECK(w.length_px == doctest::Approx(90.0f));
   CHECK(w.slope_deg == doctest::Approx(0.0f));

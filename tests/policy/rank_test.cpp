@@ -12,10 +12,10 @@
 
 namespace {
 
-perch::window_measures window(std::int32_t branch, std::uint32_t first, int x, float slope,
+perch::window_measures window(std::int32_t limb, std::uint32_t first, int x, float slope,
                               float diameter) {
   perch::window_measures m;
-  m.branch = branch;
+  m.limb = limb;
   m.first = first;
   m.centre = {x, 50};
   m.slope_deg = slope;

@@ -18,9 +18,10 @@ namespace perch {
 /// Everything measured on one window (one drone width of branch). Lengths in mm use the
 /// window's own scale `mm_per_px`; slopes are against the true horizontal (see `attitude`).
 struct window_measures {
-  std::int32_t branch = -1;     ///< skeleton-graph edge id
+  std::int32_t limb = -1;       ///< the limb measured (`perch_result::limbs` in `find_perch`)
+  std::int32_t branch = -1;     ///< skeleton-graph edge id under `middle` (-1 if not set)
   std::int32_t component = -1;  ///< connected component (tree) id
-  std::uint32_t first = 0;      ///< first centreline point of the window (index in the branch)
+  std::uint32_t first = 0;      ///< first centreline point of the window (index in the limb)
   std::uint32_t last = 0;       ///< last centreline point (inclusive)
   std::uint32_t middle = 0;     ///< centreline point at half the window's arc length
   pixel centre{};               ///< that point, in the input image's pixel coordinates

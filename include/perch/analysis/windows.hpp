@@ -21,17 +21,17 @@ namespace perch {
 /// Which end of a branch polyline lies toward the trunk (where the branch leaves its parent).
 enum class origin_end : std::uint8_t { front, back };
 
-/// One branch as the window stage reads it: an ordered centreline with the distance to the
+/// One limb as the window stage reads it: an ordered centreline with the distance to the
 /// background (radius, px) at each point. Points are in the analysed image's coordinates;
 /// `offset` maps them to the input image's (added to every reported pixel).
 struct branch_geometry {
   std::span<const pixel> points{};
   std::span<const float> radius_px{};
-  std::int32_t branch = -1;
+  std::int32_t limb = -1;  ///< reported as `window_measures::limb`
   std::int32_t component = -1;
   origin_end origin = origin_end::front;
   pixel offset{};
-  /// Index of `points[0]` in the whole branch polyline when `points` is a stretch of it: added
+  /// Index of `points[0]` in the whole limb polyline when `points` is a stretch of it: added
   /// to the reported `first`, `last` and `middle` so they index the whole polyline.
   std::uint32_t first_index = 0;
   /// Optional diameter (px) at each point (`cross_section_diameters`); empty: 2·d − 1 from
@@ -141,7 +141,7 @@ template <ScalePolicy Scale>
     if (m > a && mid_arc - arc[m - 1] < arc[m] - mid_arc) --m;
 
     window_measures w;
-    w.branch = branch.branch;
+    w.limb = branch.limb;
     w.component = branch.component;
     w.first = branch.first_index + static_cast<std::uint32_t>(a);
     w.last = branch.first_index + static_cast<std::uint32_t>(b);

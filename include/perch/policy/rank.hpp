@@ -135,7 +135,7 @@ template <Constraint C, Scorer S, class MakeContext>
               if (a.penalty != b.penalty) return a.penalty < b.penalty;
               const window_measures& wa = windows[a.index];
               const window_measures& wb = windows[b.index];
-              if (wa.branch != wb.branch) return wa.branch < wb.branch;
+              if (wa.limb != wb.limb) return wa.limb < wb.limb;
               return wa.first < wb.first;
             });
 
