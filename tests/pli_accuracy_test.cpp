@@ -3,14 +3,14 @@
 // stretch (examples/support/support/synthetic_tree.hpp, `perch_truth`) in ≥ 95 % of the trees that
 // have one, and trees built without any feasible perch must give `no_perch`.
 //
-// STATUS: the pipeline reaches 89.2 % (issue 5 stays open). Of the 18 misses, 7 are "no perch
-// though one exists" (the true stretch spans a junction with a limb that is not a side twig, a
-// small hole in the limb, or is barely one window long), 3 "diameter": windows whose
-// claw-region diameter is within a pixel of the claw's 30 mm minimum, where eq. 3 pushes the
-// ranking and where a mask cannot tell 29.5 from 30.5 mm; 4 are windows ending inside a parent at
-// a narrow fork ("junction"); the printed failures say which. The checks below hold the
-// measured level as a regression floor; the issue's 95 % target is printed beside it, not
-// asserted.
+// STATUS: the pipeline reaches 89.8 % (issue 5 stays open). Of the 17 misses, 6 are "no perch
+// though one exists": 3 whose true stretch has a claw diameter within a pixel of the claw's
+// 30 mm minimum (where a mask cannot tell 29.5 from 30.5 mm), and 3 whose true stretch runs past
+// a limb touching it, a small hole in the limb, or is exactly one window long; 3 are "diameter"
+// (windows read within a pixel or two of 30 mm, where eq. 3 pushes the ranking), 4 are windows
+// ending inside a parent at a narrow fork ("junction"), 3 "off_limb", 1 "slope"; the printed
+// failures say which. The checks below hold the measured level as a regression floor; the
+// issue's 95 % target is printed beside it, not asserted.
 #include "perch/pli.hpp"
 
 #include <doctest/doctest.h>
@@ -198,7 +198,7 @@ TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known 
   CHECK(without_truth >= 20);
   CHECK(with_truth >= 100);
   MESSAGE("issue 5 target: 95 % where a perch exists; measured " << 100.0 * rate << " %");
-  CHECK(rate >= 0.89);           // regression floor at the measured level (89.2 %)
+  CHECK(rate >= 0.895);          // regression floor at the measured level (89.8 %)
   CHECK(wrong_when_none <= 2);   // measured: 2 natural trees without a truth perch get one
 }
 
@@ -233,7 +233,7 @@ TEST_CASE("find_perch: the accuracy cost of perch_options::downscale (issue 8)")
                          << " % (" << correct << " of " << with_truth << "); a perch where none exists "
                          << wrong_when_none << " of " << without_truth);
     CHECK(errors == 0);
-    // Regression floors at the measured levels (69.5 % at 0.5, 62.3 % at 0.25).
-    CHECK(rate >= (factor == 0.5f ? 0.68 : 0.60));
+    // Regression floors at the measured levels (70.1 % at 0.5, 62.3 % at 0.25).
+    CHECK(rate >= (factor == 0.5f ? 0.69 : 0.61));
   }
 }

@@ -120,6 +120,37 @@ TEST_CASE("limbs: a side limb, a bend, or a thin edge to another junction ends t
   CHECK(limbs_of(bridge) == 5);
 }
 
+TEST_CASE("limbs: the axis of an edge leaving a junction is its straight chord, or none") {
+  drawn_skeleton d(80, 40);
+  d.line(0, 10, 79, 10, 2);   // a line with two edges leaving it downward:
+  d.line(20, 11, 20, 39, 2);  // straight,
+  d.line(60, 11, 60, 16, 2);  // and bent by 90° after 6 px (the medial axis of a cut limb)
+  d.line(61, 16, 79, 16, 2);
+  traced t;
+  trace(d, t);
+  int straight = 0, bent = 0;
+  t.graph.for_each_node([&](const perch::skeleton_node& node) {
+    if (node.kind != perch::node_kind::junction) return;
+    for (const perch::incidence in : t.graph.topology().incidences(node.id)) {
+      const perch::skeleton_branch edge = t.graph.branch(in.edge);
+      const perch::detail::leaving_axis axis = perch::detail::leaving_axis_of(edge, in.direction, node);
+      const perch::pixel far = in.direction == perch::traversal::forward ? edge.points.back()
+                                                                         : edge.points.front();
+      if (far.y == 39) {
+        ++straight;
+        CHECK(axis.valid);
+        CHECK(axis.direction.y() == doctest::Approx(1.0));
+        CHECK(axis.radius_px == 2.0f);
+      } else if (far.y == 16) {
+        ++bent;
+        CHECK_FALSE(axis.valid);
+      }
+    }
+  });
+  CHECK(straight == 1);
+  CHECK(bent == 1);
+}
+
 TEST_CASE("limbs: options are validated") {
   CHECK(perch::limb_options{}.validate());
   perch::limb_options bad;

@@ -56,8 +56,15 @@ struct leaving_axis {
   point2f start{0, 0};      ///< first point of the stretch
   point2f direction{0, 0};  ///< unit chord of the stretch, away from the node
   float radius_px = 0;      ///< mean radius over the stretch
-  bool valid = false;       ///< at least two points and a non-zero chord
+  /// At least two points, a non-zero chord, and every point of the stretch within
+  /// `straight_tolerance_px` + 10 % of the chord's length of it: a centreline that bends there
+  /// (the medial axis of a limb cut by the image edge forks to the cut's corners) is no axis.
+  bool valid = false;
 };
+
+/// A digital straight line lies within √2/2 px of its line and a medial axis wobbles by another
+/// half pixel about it.
+inline constexpr float straight_tolerance_px = 1.5f;
 
 [[nodiscard]] inline leaving_axis leaving_axis_of(const skeleton_branch& edge, traversal dir,
                                                   const skeleton_node& node) noexcept {
@@ -85,6 +92,11 @@ struct leaving_axis {
   if (!(length > 0)) return out;
   out.start = to_point(edge.points[first]);
   out.direction = chord / length;
+  const float tolerance = straight_tolerance_px + 0.1f * length;
+  for (std::size_t i = std::min(first, last); i <= std::max(first, last); ++i) {
+    const point2f v = to_point(edge.points[i]) - out.start;
+    if (std::abs(out.direction.x() * v.y() - out.direction.y() * v.x()) > tolerance) return out;
+  }
   out.radius_px = radius_sum / static_cast<float>(radius_n);
   out.valid = true;
   return out;
