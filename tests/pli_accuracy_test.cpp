@@ -243,7 +243,23 @@ downscale_score score_downscaled(float downscale, int magnify) {
   return score;
 }
 
-TEST_CASE("find_perch: the accuracy cost of perch_options::downscale (issue 8)") {
+// Under AddressSanitizer the population takes minutes per pass; the downscale passes run the
+// same pipeline code as the main case (and pli_invariants_test covers downscale's memory
+// safety), so the sanitizer workflow leaves them out.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool sanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool sanitized = true;
+#else
+constexpr bool sanitized = false;
+#endif
+#else
+constexpr bool sanitized = false;
+#endif
+
+TEST_CASE("find_perch: the accuracy cost of perch_options::downscale (issue 8)" *
+          doctest::skip(sanitized)) {
   // The same population analysed at reduced resolution. These trees are 480-960 px wide, so
   // factor 0.25 leaves 120-240 px and limbs of 2-8 px: a harsh test, reported for the README.
   for (const float factor : {0.5f, 0.25f}) {
