@@ -309,22 +309,24 @@ template <class OwnAt>
                                                  const skeleton_limb& limb) noexcept {
   const std::size_t n = limb.points.size();
   if (next[limb.first_end] >= 0) return {0, n};  // closed
-  const auto edge_of = [&](std::size_t end) { return graph.branch(static_cast<edge_id>(end / 2)); };
-  const skeleton_branch first = edge_of(limb.first_end);
-  const bool first_at_from = limb.first_end % 2 == 0;
+  const skeleton_branch first = graph.branch(edge_of_end(limb.first_end));
+  const bool first_at_from = is_from_end(limb.first_end);
   // Points trimmed at edge end `end` of edge `b` (`b`'s other end untrimmed unless `both`).
-  auto trimmed = [&](const skeleton_branch& b, bool at_from, bool both) -> std::pair<std::size_t, std::size_t> {
+  auto trimmed = [&](const skeleton_branch& b, bool at_from,
+                     bool both) -> std::pair<std::size_t, std::size_t> {
     const branch_stretch s = outside_junctions(graph, b, at_from || both, !at_from || both);
     const std::size_t from_side = s.first;
     const std::size_t to_side = b.points.size() - s.first - s.count;
     return at_from ? std::pair{from_side, to_side} : std::pair{to_side, from_side};
   };
-  if (limb.first_end / 2 == limb.last_end / 2) {  // one edge
+  if (edge_of_end(limb.first_end) == edge_of_end(limb.last_end)) {  // one edge
     const auto [front, back] = trimmed(first, first_at_from, true);
     return {front, n - front - back};
   }
   const std::size_t front = trimmed(first, first_at_from, false).first;
-  const std::size_t back = trimmed(edge_of(limb.last_end), limb.last_end % 2 == 0, false).first;
+  const std::size_t back = trimmed(graph.branch(edge_of_end(limb.last_end)),
+                                   is_from_end(limb.last_end), false)
+                               .first;
   return {front, n - front - back};
 }
 
@@ -512,14 +514,10 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   if (!window_scratch) return unexpected{window_scratch.error()};
   if (!diameters) return unexpected{diameters.error()};
   status measured{};
-  auto end_node = [&](std::size_t end) {
-    const skeleton_branch e = graph.branch(static_cast<edge_id>(end / 2));
-    return end % 2 == 0 ? e.from : e.to;
-  };
   for (std::size_t l = 0; l < out.limbs.size() && measured; ++l) {
     const skeleton_limb& limb = out.limbs[l];
-    const float from = (*node_distance)[static_cast<std::size_t>(end_node(limb.first_end))];
-    const float to = (*node_distance)[static_cast<std::size_t>(end_node(limb.last_end))];
+    const float from = (*node_distance)[static_cast<std::size_t>(node_at_end(graph, limb.first_end))];
+    const float to = (*node_distance)[static_cast<std::size_t>(node_at_end(graph, limb.last_end))];
     const detail::branch_stretch stretch = (*stretches)[l];
     const auto points = limb.points.subspan(stretch.first, stretch.count);
     const auto radii = limb.radius_px.subspan(stretch.first, stretch.count);

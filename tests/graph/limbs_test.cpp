@@ -76,12 +76,12 @@ TEST_CASE("limbs: a limb runs on through the junction where a side twig leaves")
     CHECK(limb.radius_px[i] == 8.0f);
   }
   // Its ends face its two tips; the edge under each point is one of the two limb edges.
-  CHECK(limb.first_end / 2 != limb.last_end / 2);
+  CHECK(perch::edge_of_end(limb.first_end) != perch::edge_of_end(limb.last_end));
   CHECK(t.next[limb.first_end] == -1);
   CHECK(t.next[limb.last_end] == -1);
   for (const perch::edge_id e : limb.edge_at)
-    CHECK((e == static_cast<perch::edge_id>(limb.first_end / 2) ||
-           e == static_cast<perch::edge_id>(limb.last_end / 2)));
+    CHECK((e == perch::edge_of_end(limb.first_end) ||
+           e == perch::edge_of_end(limb.last_end)));
   // The continuation is symmetric.
   for (std::size_t end = 0; end < t.next.size(); ++end)
     if (t.next[end] >= 0) CHECK(t.next[static_cast<std::size_t>(t.next[end])] == static_cast<std::int32_t>(end));

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <numbers>
 #include <span>
 
 #include "perch/core/geometry.hpp"
@@ -110,6 +111,25 @@ inline constexpr float straight_tolerance_px = 1.5f;
   return 2 * static_cast<std::size_t>(e) + static_cast<std::size_t>(end);
 }
 
+/// The edge of edge end `end` (`edge_end_index`).
+[[nodiscard]] constexpr edge_id edge_of_end(std::size_t end) noexcept {
+  return static_cast<edge_id>(end / 2);
+}
+
+/// Whether edge end `end` is at its edge's `from` node.
+[[nodiscard]] constexpr bool is_from_end(std::size_t end) noexcept { return end % 2 == 0; }
+
+/// The other end of the same edge.
+[[nodiscard]] constexpr std::size_t other_end(std::size_t end) noexcept {
+  return end ^ std::size_t{1};
+}
+
+/// The node at edge end `end`.
+[[nodiscard]] inline node_id node_at_end(const skeleton_graph& graph, std::size_t end) noexcept {
+  const skeleton_branch e = graph.branch(edge_of_end(end));
+  return is_from_end(end) ? e.from : e.to;
+}
+
 /// For every edge end, the edge end that continues its limb through the node there, or -1:
 /// `next[edge_end_index(e, end)]` = edge_end_index(e', end') (symmetric). At a junction node
 /// whose incident edges are all distinct (no self-loop), two edges continue one another when
@@ -126,7 +146,7 @@ inline void limb_continuations(const skeleton_graph& graph, std::span<std::int32
   for (auto& v : next) v = -1;
   constexpr std::size_t max_degree = 8;
   const float cos_max_turn =
-      std::cos(options.max_turn_deg * static_cast<float>(3.14159265358979323846 / 180.0));
+      std::cos(options.max_turn_deg * std::numbers::pi_v<float> / 180.0f);
   graph.for_each_node([&](const skeleton_node& node) {
     if (node.kind != node_kind::junction || node.degree < 3) return;
     if (static_cast<std::size_t>(node.degree) > max_degree) return;
@@ -187,8 +207,8 @@ struct skeleton_limb {
 
 /// Bytes of workspace `trace_limbs` takes for a graph of at most `edges` edges over at most
 /// `skeleton_pixels` pixels (a limb's points are skeleton pixels, each used once).
-[[nodiscard]] constexpr std::size_t trace_limbs_workspace_bytes(std::size_t edges,
-                                                                std::size_t skeleton_pixels) noexcept {
+[[nodiscard]] constexpr std::size_t trace_limbs_workspace_bytes(
+    std::size_t edges, std::size_t skeleton_pixels) noexcept {
   return workspace::footprint<skeleton_limb>(edges) + workspace::footprint<std::uint8_t>(edges) +
          workspace::footprint<pixel>(skeleton_pixels) +
          workspace::footprint<float>(skeleton_pixels) +
@@ -220,8 +240,6 @@ struct skeleton_limb {
   if (!points) return unexpected{points.error()};
   if (!radii) return unexpected{radii.error()};
   if (!edges) return unexpected{edges.error()};
-  const auto edge_of = [](std::size_t end) { return static_cast<edge_id>(end / 2); };
-  const auto other_end = [](std::size_t end) { return end ^ std::size_t{1}; };
   std::size_t limb_count = 0, used = 0;
   graph.for_each_branch([&](const skeleton_branch& b) {
     if ((*visited)[static_cast<std::size_t>(b.id)] != 0) return;
@@ -229,7 +247,7 @@ struct skeleton_limb {
     std::size_t first = edge_end_index(b.id, 0);
     for (std::size_t hops = 0; hops < edge_end; ++hops) {
       const std::int32_t back = next[first];
-      if (back < 0 || edge_of(static_cast<std::size_t>(back)) == b.id) break;
+      if (back < 0 || edge_of_end(static_cast<std::size_t>(back)) == b.id) break;
       first = other_end(static_cast<std::size_t>(back));
     }
     skeleton_limb limb;
@@ -237,21 +255,22 @@ struct skeleton_limb {
     limb.first_end = static_cast<std::uint32_t>(first);
     const std::size_t start = used;
     for (std::size_t end = first;;) {  // `end`: the end the walk enters the current edge by
-      const edge_id e = edge_of(end);
+      const edge_id e = edge_of_end(end);
       (*visited)[static_cast<std::size_t>(e)] = 1;
       const skeleton_branch edge = graph.branch(e);
       const std::size_t n = edge.points.size();
       for (std::size_t k = 0; k < n; ++k) {
-        const std::size_t i = end % 2 == 0 ? k : n - 1 - k;
+        const std::size_t i = is_from_end(end) ? k : n - 1 - k;
         (*points)[used] = edge.points[i];
         (*radii)[used] = edge.radius_px[i];
         (*edges)[used++] = e;
       }
       limb.last_end = static_cast<std::uint32_t>(other_end(end));
       const std::int32_t on = next[limb.last_end];
-      if (on < 0 || (*visited)[static_cast<std::size_t>(edge_of(static_cast<std::size_t>(on)))] != 0)
+      if (on < 0) break;
+      if ((*visited)[static_cast<std::size_t>(edge_of_end(static_cast<std::size_t>(on)))] != 0)
         break;
-      const skeleton_node node = graph.node(end % 2 == 0 ? edge.to : edge.from);
+      const skeleton_node node = graph.node(is_from_end(end) ? edge.to : edge.from);
       (*points)[used] = node.position;
       (*radii)[used] = node.radius_px;
       (*edges)[used++] = e;
