@@ -3,14 +3,17 @@
 // stretch (examples/support/support/synthetic_tree.hpp, `perch_truth`) in ≥ 95 % of the trees that
 // have one, and trees built without any feasible perch must give `no_perch`.
 //
-// STATUS: the pipeline reaches 89.8 % (issue 5 stays open). Of the 17 misses, 6 are "no perch
-// though one exists": 3 whose true stretch has a claw diameter within a pixel of the claw's
-// 30 mm minimum (where a mask cannot tell 29.5 from 30.5 mm), and 3 whose true stretch runs past
-// a limb touching it, a small hole in the limb, or is exactly one window long; 3 are "diameter"
-// (windows read within a pixel or two of 30 mm, where eq. 3 pushes the ranking), 4 are windows
-// ending inside a parent at a narrow fork ("junction"), 3 "off_limb", 1 "slope"; the printed
-// failures say which. The checks below hold the measured level as a regression floor; the
-// issue's 95 % target is printed beside it, not asserted.
+// STATUS: the pipeline reaches 88.6 % (issue 5 stays open), and picks a wrong site on 8 trees.
+// Windows are one drone width of true arc length (chords, not 8-connected steps, which read a
+// diagonal branch up to 8 % long and so let a window overlap a junction): that took the wrong
+// sites from 13 to 8 and turned 6 trees whose only true stretch is about one window long (less
+// than 3 px of slack) into "no perch", where the trimming at junctions is a few pixels more
+// cautious than the truth. Of the 19 misses, 12 are "no perch though one exists" (those 6; 3
+// whose true stretch has a claw diameter within a pixel of the claw's 30 mm minimum, where a
+// mask cannot tell 29.5 from 30.5 mm; 3 whose stretch runs past a touching limb or a small
+// hole), 3 "diameter" (noisy outlines read 2-7 mm wide near the 30 mm minimum), 3 "off_limb",
+// 1 junction; the printed failures say which. The checks below hold the measured levels as
+// regression floors; the issue's 95 % target is printed beside it, not asserted.
 #include "perch/pli.hpp"
 
 #include <doctest/doctest.h>
@@ -199,8 +202,9 @@ TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known 
   CHECK(without_truth >= 20);
   CHECK(with_truth >= 100);
   MESSAGE("issue 5 target: 95 % where a perch exists; measured " << 100.0 * rate << " %");
-  CHECK(rate >= 0.895);          // regression floor at the measured level (89.8 %)
-  CHECK(wrong_when_none <= 2);   // measured: 2 natural trees without a truth perch get one
+  CHECK(rate >= 0.88);           // regression floor at the measured level (88.6 %)
+  CHECK(incorrect <= 8);         // measured: 8 wrong sites, 1 on a tree without a truth perch
+  CHECK(wrong_when_none <= 1);
 }
 
 /// The population at `magnify` analysed at `downscale`: how often the best site lies on a truly
@@ -265,8 +269,8 @@ TEST_CASE("find_perch: the accuracy cost of perch_options::downscale (issue 8)" 
   for (const float factor : {0.5f, 0.25f}) {
     const downscale_score score = score_downscaled(factor, 1);
     CHECK(score.errors == 0);
-    // Regression floors at the measured levels (70.1 % at 0.5, 62.3 % at 0.25).
-    CHECK(score.rate() >= (factor == 0.5f ? 0.69 : 0.61));
+    // Regression floors at the measured levels (76.0 % at 0.5, 58.7 % at 0.25).
+    CHECK(score.rate() >= (factor == 0.5f ? 0.755 : 0.58));
   }
 }
 
@@ -277,9 +281,9 @@ TEST_CASE("find_perch: downscale on camera-sized frames (issue 8)" * doctest::sk
   for (const float factor : {1.0f, 0.5f, 0.25f}) {
     const downscale_score score = score_downscaled(factor, 4);
     CHECK(score.errors == 0);
-    // Regression floors at the measured levels (88.0 %, 87.4 %, 85.1 %; a perch on 0, 0 and 1
-    // of the 65 trees without one).
-    CHECK(score.rate() >= (factor == 1.0f ? 0.875 : factor == 0.5f ? 0.87 : 0.845));
-    CHECK(score.wrong_when_none <= 1);
+    // Regression floors at the measured levels (89.1 %, 85.1 %, 85.1 %; a perch on none of
+    // the 65 trees without one).
+    CHECK(score.rate() >= (factor == 1.0f ? 0.885 : 0.845));
+    CHECK(score.wrong_when_none == 0);
   }
 }

@@ -106,7 +106,8 @@ struct perch_result {
   std::string_view platform{};  ///< the platform's name
   int width = 0, height = 0;    ///< input image size
   prepared_mask mask{};                       ///< the analysed (cropped, reduced) mask
-  image_view<const std::uint32_t> dist2{};    ///< squared distance map, local coordinates
+  image_view<const std::uint32_t> dist2{};    ///< squared distances on the tree pixels of
+                                              ///< `mask.pixels` (others not written), local
   image_view<const std::uint8_t> skeleton{};  ///< skeleton (1/0), local coordinates
   skeleton_graph graph{};                     ///< after pruning, local coordinates
   std::span<const skeleton_limb> limbs{};     ///< the graph's edges chained into limbs
@@ -420,7 +421,7 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   auto dist2 = ws.allocate<std::uint32_t>(n);
   if (!dist2) return unexpected{dist2.error()};
   const image_view<std::uint32_t> dist(dist2->data(), w, h);
-  PERCH_TRY(distance_transform_sq(image_view<const std::uint8_t>(local), dist, ws));
+  PERCH_TRY(distance_transform_sq_foreground(image_view<const std::uint8_t>(local), dist, ws));
   out.dist2 = dist;
   out.timing.distance_ms = clock.lap();
 

@@ -54,6 +54,35 @@ TEST_CASE("measures: slope of digital lines within 1 degree, folded into [0, 90]
   }
 }
 
+TEST_CASE("measures: arc length of digital lines and arcs within 1 percent at every angle") {
+  // Counting 8-connected steps as 1 or √2 reads a line at 22.5° 8 % long; chords over 8
+  // points follow the line itself.
+  for (float angle = 0; angle <= 90.0f; angle += 7.5f) {
+    const auto line = digital_line(angle, 300.0f);
+    std::vector<float> arc(line.size());
+    perch::arc_lengths(line, arc);
+    const float dx = static_cast<float>(line.back().x - line.front().x);
+    const float dy = static_cast<float>(line.back().y - line.front().y);
+    const float truth = std::sqrt(dx * dx + dy * dy);
+    INFO("angle " << angle);
+    CHECK(arc.front() == 0.0f);
+    CHECK(std::abs(arc.back() - truth) <= 0.01f * truth);
+    for (std::size_t i = 1; i < arc.size(); ++i) REQUIRE(arc[i] > arc[i - 1]);
+  }
+  for (const float r : {40.0f, 80.0f, 160.0f}) {
+    const auto arc_points = digital_arc(r, 60.0f);
+    std::vector<float> arc(arc_points.size());
+    perch::arc_lengths(arc_points, arc);
+    // The true length between the end pixels' directions from the centre (500, 500).
+    auto angle_of = [](perch::pixel p) {
+      return std::atan2(static_cast<float>(p.y - 500), static_cast<float>(p.x - 500));
+    };
+    const float truth = r * (angle_of(arc_points.back()) - angle_of(arc_points.front()));
+    INFO("radius " << r);
+    CHECK(std::abs(arc.back() - truth) <= 0.01f * truth);
+  }
+}
+
 TEST_CASE("measures: camera roll is subtracted before the slope is taken") {
   const auto line = digital_line(20.0f, 150.0f);  // 20° in the image
   const perch::point2f d = perch::to_point(line.back()) - perch::to_point(line.front());

@@ -152,11 +152,15 @@ TEST_CASE("distance_transform_sq: equals brute force on thousands of random mask
       REQUIRE(perch::distance_transform_sq(m.view(), d.view(), nearest.view(), ws));
       image<std::uint32_t> d_plain(s[0], s[1], 7);
       REQUIRE(perch::distance_transform_sq(m.view(), d_plain.view(), ws));
+      // The foreground-only variant: the same distances on the foreground, background untouched.
+      image<std::uint32_t> d_fg(s[0], s[1], 7);
+      REQUIRE(perch::distance_transform_sq_foreground(m.view(), d_fg.view(), ws));
       bool same = true;
       for (int y = 0; y < s[1]; ++y)
         for (int x = 0; x < s[0]; ++x) {
           same = same && d(x, y) == ref.dist2(x, y) && d_plain(x, y) == ref.dist2(x, y) &&
-                 nearest(x, y) == ref.nearest(x, y);
+                 nearest(x, y) == ref.nearest(x, y) &&
+                 d_fg(x, y) == (m(x, y) != 0 ? ref.dist2(x, y) : 7u);
         }
       if (!same) {
         INFO("mask:\n" << perch::support::to_ascii(m.view()));

@@ -52,18 +52,35 @@ struct curvature_options {
   int stencil_px = 8;
 };
 
-/// Cumulative arc length (Σ steps of 1 or √2, or the true distance for larger steps) at every
-/// point: `arc_px[0] = 0`. `arc_px.size()` must equal `points.size()`.
-inline void arc_lengths(std::span<const pixel> points, std::span<float> arc_px) noexcept {
+/// Cumulative arc length at every point of a centreline, `arc_px[0] = 0`: the sum of chords
+/// between every `chord_points`-th point, each chord shared among the steps it spans in
+/// proportion to their lengths. Counting the 8-connected steps of a staircase as 1 or √2
+/// overestimates the line it digitises by up to 8 % (at 22.5°; 5 % on average over directions),
+/// so a window of that many steps would be shorter than the drone; a chord over 8 pixels is
+/// within a few hundredths of a pixel of the length of a straight line or of a gentle arc.
+/// `arc_px.size()` must equal `points.size()`. Complexity O(n).
+inline void arc_lengths(std::span<const pixel> points, std::span<float> arc_px,
+                        std::size_t chord_points = 8) noexcept {
   PERCH_ASSERT(arc_px.size() == points.size(), "arc_lengths: size mismatch");
-  float total = 0;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (i > 0) {
-      const float dx = static_cast<float>(points[i].x - points[i - 1].x);
-      const float dy = static_cast<float>(points[i].y - points[i - 1].y);
-      total += std::sqrt(dx * dx + dy * dy);
+  const std::size_t n = points.size();
+  if (n == 0) return;
+  auto distance = [&](std::size_t i, std::size_t j) {
+    const float dx = static_cast<float>(points[j].x - points[i].x);
+    const float dy = static_cast<float>(points[j].y - points[i].y);
+    return std::sqrt(dx * dx + dy * dy);
+  };
+  const std::size_t k = chord_points > 0 ? chord_points : 1;
+  arc_px[0] = 0;
+  for (std::size_t a = 0; a + 1 < n;) {
+    const std::size_t b = std::min(a + k, n - 1);
+    float steps = 0;
+    for (std::size_t i = a + 1; i <= b; ++i) {
+      steps += distance(i - 1, i);
+      arc_px[i] = steps;
     }
-    arc_px[i] = total;
+    const float share = steps > 0 ? distance(a, b) / steps : 0.0f;
+    for (std::size_t i = a + 1; i <= b; ++i) arc_px[i] = arc_px[a] + arc_px[i] * share;
+    a = b;
   }
 }
 

@@ -9,6 +9,7 @@
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
 
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
@@ -45,9 +46,11 @@ struct distance_options {
 namespace detail {
 
 enum class edt_output : std::uint8_t { squared, nearest, real };
+/// Whether background pixels of the output are written (0, and themselves as nearest) or left.
+enum class edt_background : std::uint8_t { write, leave };
 
 /// The transform itself; `Out` is the output kind, `near` is used for `edt_output::nearest`.
-template <edt_output Out, class Mask, class Dist, class Near>
+template <edt_output Out, edt_background Background, class Mask, class Dist, class Near>
 [[nodiscard]] status distance_transform_impl(const Mask& mask, const Dist& dist, const Near& near,
                                              workspace& ws,
                                              const distance_options& options) noexcept {
@@ -82,41 +85,51 @@ template <edt_output Out, class Mask, class Dist, class Near>
   std::uint32_t* dn = down->data();
   std::int32_t* nr = near_row->data();
 
-  // Phase 1, downwards: the run length of foreground above and including each pixel, kept per
-  // column in a row buffer (so the loop vectorises) and stored in the output (rows outside the
-  // image are background).
-  for (int x = 0; x < w; ++x) dn[x] = 0;
+  // Phase 1, downwards, on foreground pixels only: the run length of foreground above and
+  // including each pixel, kept per column in `dn` (valid where the pixel above is foreground:
+  // it was set on the row above) and stored in the output (rows outside the image are
+  // background).
+  using M = std::remove_cvref_t<decltype(*row_pointer(mask, 0))>;
+  const M* above = nullptr;
   for (int y = 0; y < h; ++y) {
-    const auto* m = row_pointer(mask, y);
+    const M* m = row_pointer(mask, y);
     D* d = row_pointer(dist, y);
-    for (int x = 0; x < w; ++x) {
-      const std::uint32_t up = static_cast<bool>(m[x]) ? dn[x] + 1 : 0;
-      dn[x] = up;
-      d[x] = static_cast<D>(up);
+    for (int a = detail::next_set(m, 0, w); a < w;) {
+      const int b = detail::next_clear(m, a, w);
+      for (int x = a; x < b; ++x) {
+        const std::uint32_t up = above != nullptr && static_cast<bool>(above[x]) ? dn[x] + 1 : 1;
+        dn[x] = up;
+        d[x] = static_cast<D>(up);
+      }
+      a = detail::next_set(m, b, w);
     }
+    above = m;
   }
-  for (int x = 0; x < w; ++x) dn[x] = 0;
 
-  // Phase 1 upwards (run length below, kept per column in `down`), then phase 2 on the row:
-  // each run of foreground [a, b] sees only the sites a−1 … b+1, because the background at
-  // a−1 and b+1 (or outside the image) is nearer than anything beyond it.
+  // Phase 1 upwards (the run length below, in `dn` again), then phase 2 on the row: each run
+  // of foreground [a, b] sees only the sites a−1 … b+1, because the background at a−1 and b+1
+  // (or outside the image) is nearer than anything beyond it.
   const double sx = static_cast<double>(options.spacing_x);
   const double sx2 = sx * sx;
   const float sy = options.spacing_y;
+  const M* below = nullptr;
   for (int y = h - 1; y >= 0; --y) {
-    const auto* m = row_pointer(mask, y);
+    const M* m = row_pointer(mask, y);
     D* d = row_pointer(dist, y);
-    for (int x = 0; x < w; ++x) dn[x] = static_cast<bool>(m[x]) ? dn[x] + 1 : 0;
-    if constexpr (Out == edt_output::nearest) {
-      pixel* p = row_pointer(near, y);
-      for (int x = 0; x < w; ++x)
-        if (!static_cast<bool>(m[x])) p[x] = pixel{x, y};
-    }
     int x = 0;
     while (true) {
       const int a = detail::next_set(m, x, w);
+      if constexpr (Background == edt_background::write) {
+        for (int c = x; c < a; ++c) d[c] = D{0};
+        if constexpr (Out == edt_output::nearest) {
+          pixel* p = row_pointer(near, y);
+          for (int c = x; c < a; ++c) p[c] = pixel{c, y};
+        }
+      }
       if (a == w) break;
       const int b = detail::next_clear(m, a, w) - 1;
+      for (int c = a; c <= b; ++c)
+        dn[c] = below != nullptr && static_cast<bool>(below[c]) ? dn[c] + 1 : 1;
       const int sites = b - a + 3;  // a−1 … b+1
       if constexpr (Out == edt_output::real) {
         float* g = g_real->data();
@@ -160,6 +173,7 @@ template <edt_output Out, class Mask, class Dist, class Near>
       }
       x = b + 1;
     }
+    below = m;
   }
   ws.rewind(entry);
   return {};
@@ -186,24 +200,45 @@ template <class Mask, class Dist>
 /// transforms in linear time" (Mathematical Morphology and its Applications to Image and Signal
 /// Processing, 2000), the Euclidean case: phase 1 gives each pixel its distance to the nearest
 /// background pixel in its column (one pass down, one up); phase 2 takes, along each row, the
-/// lower envelope of the parabolas (x − i)² + g(i)². Phase 2 runs per run of foreground pixels:
-/// a run [a, b] needs only the sites a−1 … b+1 (the background at a−1 and b+1 is nearer than any
-/// site beyond it), so phase 2 costs O(foreground) instead of O(width × height).
+/// lower envelope of the parabolas (x − i)² + g(i)². Both work on runs of foreground pixels,
+/// found eight mask bytes at a time: phase 1 counts a column's run length only on foreground
+/// (a pixel whose upper neighbour is background starts at 1), and a run [a, b] of a row needs
+/// only the sites a−1 … b+1 in phase 2 (the background at a−1 and b+1 is nearer than any site
+/// beyond it). So only the mask is read whole; the rest costs O(foreground).
 ///
 /// Preconditions: none (bad input is reported). Errors: view errors of `mask` (empty, null
 /// data, stride < width, too large) or `dist2`, `size_mismatch` when they differ in size,
 /// `workspace_too_small` (with `error::needed`) when a borrowed workspace cannot hold
 /// `distance_workspace_bytes(width, height)`.
-/// Complexity: O(width × height) for phase 1 (two vectorisable row sweeps) plus O(foreground)
-/// for phase 2; no allocation beyond the workspace, which is given back on return.
+/// Complexity: two reads of the mask (eight bytes per step through background), O(foreground)
+/// for the distances, one write per background pixel; no allocation beyond the workspace,
+/// which is given back on return.
 /// Guarantees: exact (integer arithmetic); deterministic; `dist2` ≤ ((min(w, h) + 1) / 2)².
 template <BinaryView Mask, MutableImageView Dist>
   requires std::same_as<typename Dist::value_type, std::uint32_t>
 [[nodiscard]] status distance_transform_sq(const Mask& mask, const Dist& dist2,
                                            workspace& ws) noexcept {
   PERCH_TRY(detail::validate_distance_views(mask, dist2));
-  return detail::distance_transform_impl<detail::edt_output::squared>(mask, dist2, dist2, ws,
-                                                                      distance_options{});
+  using detail::edt_background, detail::edt_output;
+  return detail::distance_transform_impl<edt_output::squared, edt_background::write>(
+      mask, dist2, dist2, ws, distance_options{});
+}
+
+/// Squared exact Euclidean distance transform of the foreground only.
+///
+/// As `distance_transform_sq`, but writes only the foreground pixels of `dist2`: background
+/// pixels keep whatever they held. For callers that read distances only on the shape (the
+/// skeleton, its graph, `find_perch`), this skips writing a whole image of zeros, most of a
+/// thin tree mask's bytes.
+/// Errors and complexity: as `distance_transform_sq`, with O(foreground) writes.
+template <BinaryView Mask, MutableImageView Dist>
+  requires std::same_as<typename Dist::value_type, std::uint32_t>
+[[nodiscard]] status distance_transform_sq_foreground(const Mask& mask, const Dist& dist2,
+                                                      workspace& ws) noexcept {
+  PERCH_TRY(detail::validate_distance_views(mask, dist2));
+  using detail::edt_background, detail::edt_output;
+  return detail::distance_transform_impl<edt_output::squared, edt_background::leave>(
+      mask, dist2, dist2, ws, distance_options{});
 }
 
 /// Squared Euclidean distance transform plus, for every pixel, its nearest background pixel.
@@ -223,8 +258,9 @@ template <BinaryView Mask, MutableImageView Dist, MutableImageView Nearest>
   PERCH_TRY(detail::validate_distance_views(mask, dist2));
   PERCH_TRY(validate(nearest));
   PERCH_TRY(same_size(mask, nearest));
-  return detail::distance_transform_impl<detail::edt_output::nearest>(mask, dist2, nearest, ws,
-                                                                      distance_options{});
+  using detail::edt_background, detail::edt_output;
+  return detail::distance_transform_impl<edt_output::nearest, edt_background::write>(
+      mask, dist2, nearest, ws, distance_options{});
 }
 
 /// Euclidean distance transform for anisotropic pixels, as real distances.
@@ -247,7 +283,9 @@ template <BinaryView Mask, MutableImageView Dist>
   PERCH_TRY(options.validate());
   PERCH_TRY(detail::validate_distance_views(mask, dist));
   if (mask.height() > (1 << 24)) return fail(errc::image_too_large, "distance_transform: height");
-  return detail::distance_transform_impl<detail::edt_output::real>(mask, dist, dist, ws, options);
+  using detail::edt_background, detail::edt_output;
+  return detail::distance_transform_impl<edt_output::real, edt_background::write>(mask, dist, dist,
+                                                                                  ws, options);
 }
 
 }  // namespace perch
