@@ -351,7 +351,6 @@ template <class OwnAt>
   bytes += distance_workspace_bytes(w, h);
   bytes += skeleton_workspace_bytes(w, h);
   bytes += skeleton_graph_workspace_bytes(w, h, n);
-  bytes += tree_pixel_counter::workspace_bytes(w, h);
   // Limbs: continuations, the limbs (at most one per edge, at most one edge per skeleton
   // pixel) and their stretches.
   bytes += workspace::footprint<std::int32_t>(2 * n) + trace_limbs_workspace_bytes(n, n) +
@@ -537,8 +536,7 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   out.timing.windows_ms = clock.lap();
 
   // 6. Constraints, scorer, ranking.
-  tree_pixel_counter tree;
-  PERCH_TRY(tree.build(image_view<const std::uint8_t>(local), ws));
+  const tree_pixel_counter tree(image_view<const std::uint8_t>{local});
   const point2f up = options.camera.up();
   auto make_context = [&](const window_measures& m) {
     const std::span<const pixel> points = out.limbs[static_cast<std::size_t>(m.limb)].points;

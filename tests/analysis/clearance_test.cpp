@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <cstdint>
+#include <random>
 
 #include "perch/core/image.hpp"
 
@@ -21,9 +22,7 @@ TEST_CASE("clearance: band, box above and circle count other tree only") {
     for (int y = 48; y <= 52; ++y) mask(x, y) = 1;
   for (int x = 40; x < 60; ++x)
     for (int y = 30; y < 40; ++y) mask(x, y) = 1;  // 200 px of twigs
-  perch::workspace ws;
-  perch::tree_pixel_counter tree;
-  REQUIRE(tree.build(mask.view(), ws));
+  const perch::tree_pixel_counter tree(mask.view());
   CHECK(tree.count(50, 0, 199) == 200);
   CHECK(tree.count(35, -10, 45) == 6);
   CHECK(tree.count(500, 0, 10) == 0);
@@ -46,4 +45,26 @@ TEST_CASE("clearance: band, box above and circle count other tree only") {
   const auto coarse = at_scale(4.0f);
   const perch::window_context far(tree, coarse, {30, 50}, {70, 50}, 2.5f, up);
   CHECK(far.band(20.0f).tree == 0);
+}
+
+TEST_CASE("clearance: row counts equal a pixel-by-pixel count on random masks") {
+  // Any non-zero byte is tree; intervals start and end anywhere, inside words or across them.
+  std::mt19937 rng(11);
+  const std::uint8_t values[] = {0, 0, 0, 1, 255, 128, 7};
+  for (int round = 0; round < 200; ++round) {
+    const int w = 1 + static_cast<int>(rng() % 70);
+    perch::image<std::uint8_t> mask(w, 3, 0);
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < w; ++x) mask(x, y) = values[rng() % 7];
+    const perch::tree_pixel_counter tree(mask.view());
+    for (int q = 0; q < 20; ++q) {
+      const int y = static_cast<int>(rng() % 5) - 1;
+      const int x0 = static_cast<int>(rng() % static_cast<unsigned>(w + 10)) - 5;
+      const int x1 = static_cast<int>(rng() % static_cast<unsigned>(w + 10)) - 5;
+      std::uint32_t expected = 0;
+      for (int x = x0; x <= x1; ++x)
+        if (y >= 0 && y < 3 && x >= 0 && x < w && mask(x, y) != 0) ++expected;
+      REQUIRE(tree.count(y, x0, x1) == expected);
+    }
+  }
 }

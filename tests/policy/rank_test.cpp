@@ -35,8 +35,7 @@ TEST_CASE("rank: viability, eq. 3 ranking, distinct sites and why the others los
   for (int x = 70; x <= 90; ++x)
     for (int y = 30; y <= 45; ++y) mask(x, y) = 1;
   perch::workspace ws;
-  perch::tree_pixel_counter tree;
-  REQUIRE(tree.build(mask.view(), ws));
+  const perch::tree_pixel_counter tree(mask.view());
 
   const std::vector<perch::window_measures> windows = {
       window(0, 0, 10, 5.0f, 40.0f),    // viable, P = 0.8·5/35 + 0.2·10/80
@@ -82,7 +81,6 @@ TEST_CASE("rank: viability, eq. 3 ranking, distinct sites and why the others los
 
   // Deterministic and allocation-free on a warm workspace.
   ws.reset();
-  REQUIRE(tree.build(mask.view(), ws));
   perch::test::allocation_scope scope;
   auto again = perch::rank_windows(windows, c, perch::pli_penalty{}, make_context, ws,
                                    {.top_k = 5, .site_separation_mm = 20.0f});

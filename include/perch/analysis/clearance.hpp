@@ -2,14 +2,16 @@
 /// Clearance around a window: how much of the tree other than the branch itself lies in a band
 /// along it, above it, or in a circle around it (the paper's failure case of a branch buried in
 /// twigs, and the free space the tether, metamorphic and ornithopter platforms need).
-/// Regions are convex; each query walks the region's rows and counts tree pixels with row prefix
-/// sums, so it costs O(region height), not O(region area).
+/// Regions are convex; each query walks the region's rows and counts each row's tree pixels eight
+/// at a time, so it costs O(region area / 8) and needs nothing built beforehand.
 #pragma once
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <span>
 
 #include "perch/analysis/measures.hpp"
@@ -21,59 +23,39 @@
 
 namespace perch {
 
-/// Row prefix sums of a binary mask: `sum(x, y)` = tree pixels in row y left of column x.
+/// Counts the tree pixels of a row interval straight from a byte mask, eight pixels per step:
+/// the clearance queries touch a few hundred rows per window, far less than building row
+/// prefix sums of the whole mask (4 bytes per pixel) would. Keeps a view of the mask, which
+/// must outlive the counter.
 class tree_pixel_counter {
  public:
   tree_pixel_counter() noexcept = default;
+  explicit tree_pixel_counter(image_view<const std::uint8_t> mask) noexcept : mask_(mask) {}
 
-  /// Builds the sums for `mask` (non-zero = tree) from workspace memory: (w+1)·h uint32.
-  template <BinaryView Mask>
-  [[nodiscard]] status build(const Mask& mask, workspace& ws) noexcept {
-    width_ = mask.width();
-    height_ = mask.height();
-    auto sums = ws.allocate<std::uint32_t>(static_cast<std::size_t>(width_ + 1) *
-                                           static_cast<std::size_t>(height_));
-    if (!sums) return unexpected{sums.error()};
-    sums_ = *sums;
-    // Run by run: constant over background, counting up over tree.
-    for (int y = 0; y < height_; ++y) {
-      std::uint32_t* row = sums_.data() + static_cast<std::size_t>(y) * stride();
-      const auto* in = detail::row_pointer(mask, y);
-      std::uint32_t sum = 0;
-      row[0] = 0;
-      for (int x = 0; x < width_;) {
-        const int tree = detail::next_set(in, x, width_);
-        std::fill(row + x + 1, row + tree + 1, sum);
-        const int end = detail::next_clear(in, tree, width_);
-        for (x = tree; x < end; ++x) row[x + 1] = ++sum;
-      }
-    }
-    return {};
-  }
-
-  /// Bytes `build` takes from a workspace for a width × height mask.
-  [[nodiscard]] static constexpr std::size_t workspace_bytes(int width, int height) noexcept {
-    return workspace::footprint<std::uint32_t>(static_cast<std::size_t>(width + 1) *
-                                               static_cast<std::size_t>(height));
-  }
-
-  /// Tree pixels in row y with column in [x0, x1] (clipped to the image).
+  /// Tree (non-zero) pixels in row y with column in [x0, x1] (clipped to the image).
   [[nodiscard]] std::uint32_t count(int y, int x0, int x1) const noexcept {
-    if (y < 0 || y >= height_) return 0;
+    if (y < 0 || y >= height()) return 0;
     x0 = std::max(x0, 0);
-    x1 = std::min(x1, width_ - 1);
+    x1 = std::min(x1, width() - 1);
     if (x1 < x0) return 0;
-    const std::uint32_t* row = sums_.data() + static_cast<std::size_t>(y) * stride();
-    return row[x1 + 1] - row[x0];
+    const std::uint8_t* row = detail::row_pointer(mask_, y);
+    constexpr std::uint64_t lows = 0x7F7F7F7F7F7F7F7Fu;
+    std::uint32_t n = 0;
+    int x = x0;
+    for (; x + 8 <= x1 + 1; x += 8) {
+      std::uint64_t word = 0;
+      std::memcpy(&word, row + x, sizeof word);
+      // The high bit of each byte that is non-zero (no carry crosses a byte).
+      n += static_cast<std::uint32_t>(std::popcount((((word & lows) + lows) | word) & ~lows));
+    }
+    for (; x <= x1; ++x) n += row[x] != 0 ? 1u : 0u;
+    return n;
   }
-  [[nodiscard]] std::size_t stride() const noexcept { return static_cast<std::size_t>(width_) + 1; }
-  [[nodiscard]] int width() const noexcept { return width_; }
-  [[nodiscard]] int height() const noexcept { return height_; }
+  [[nodiscard]] int width() const noexcept { return mask_.width(); }
+  [[nodiscard]] int height() const noexcept { return mask_.height(); }
 
  private:
-  std::span<std::uint32_t> sums_{};
-  int width_ = 0;
-  int height_ = 0;
+  image_view<const std::uint8_t> mask_{};
 };
 
 /// A convex region given as up to four slabs |n·p − c| ≤ r plus an optional disc; its rows are
