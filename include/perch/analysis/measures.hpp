@@ -101,19 +101,23 @@ inline void curvature_profile(std::span<const pixel> points, std::span<float> cu
   };
   std::span<float> sx = scratch.first(n);
   std::span<float> sy = scratch.subspan(n, n);
-  // Moving average of positions (window 2h+1, clamped), by running sums.
+  // Moving average of positions (window 2h+1, clamped), by running sums of the integer
+  // coordinates (exact).
+  const auto count = static_cast<float>(2 * h + 1);
+  std::int64_t ax = 0;
+  std::int64_t ay = 0;
+  for (std::ptrdiff_t k = -h; k <= h; ++k) {
+    ax += points[clamp(k)].x;
+    ay += points[clamp(k)].y;
+  }
   for (std::size_t i = 0; i < n; ++i) {
-    float ax = 0;
-    float ay = 0;
+    sx[i] = static_cast<float>(ax) / count;
+    sy[i] = static_cast<float>(ay) / count;
     const auto c = static_cast<std::ptrdiff_t>(i);
-    for (std::ptrdiff_t k = -h; k <= h; ++k) {
-      const pixel p = points[clamp(c + k)];
-      ax += static_cast<float>(p.x);
-      ay += static_cast<float>(p.y);
-    }
-    const auto count = static_cast<float>(2 * h + 1);
-    sx[i] = ax / count;
-    sy[i] = ay / count;
+    const pixel leaving = points[clamp(c - h)];
+    const pixel entering = points[clamp(c + h + 1)];
+    ax += entering.x - leaving.x;
+    ay += entering.y - leaving.y;
   }
   for (std::size_t i = 0; i < n; ++i) {
     const auto c = static_cast<std::ptrdiff_t>(i);
@@ -143,8 +147,13 @@ inline void curvature_profile(std::span<const pixel> points, std::span<float> cu
   for (std::size_t i = 0; i < n; ++i) {
     float acc = 0;
     const auto c = static_cast<std::ptrdiff_t>(i);
-    for (std::ptrdiff_t k = -h; k <= h; ++k) acc += sx[clamp(c + k)];
-    curvature_px[i] = acc / static_cast<float>(2 * h + 1);
+    if (c >= h && c + h <= last) {  // no clamping: a plain loop the compiler keeps tight
+      const float* window = sx.data() + (c - h);
+      for (std::ptrdiff_t k = 0; k <= 2 * h; ++k) acc += window[k];
+    } else {
+      for (std::ptrdiff_t k = -h; k <= h; ++k) acc += sx[clamp(c + k)];
+    }
+    curvature_px[i] = acc / count;
   }
 }
 

@@ -42,8 +42,9 @@ namespace perch {
 /// skeletonising the skeleton gives it back (idempotent); deterministic (ties: distance, then
 /// queue order). `dist2` only orders the peeling: any map gives a thin, topology-preserving
 /// result; values above the largest distance the image can hold are clamped.
-/// Errors: view errors of the three views, `size_mismatch`, `workspace_too_small` /
-/// `out_of_memory` from the workspace (needs `workspace_bytes(width, height)`).
+/// Errors: view errors of the three views, `size_mismatch`, `image_too_large` for a strip so
+/// thin that its padded copy holds 2^31 pixels, `workspace_too_small` / `out_of_memory` from
+/// the workspace (needs `workspace_bytes(width, height)`).
 /// Complexity: O(width × height) for the copy in and out (byte sweeps) plus O(foreground) for
 /// the peeling; no allocation beyond the workspace, which is given back on return.
 struct medial_axis {
@@ -76,7 +77,8 @@ struct medial_axis {
   }
 
  private:
-  static constexpr std::uint32_t empty = 0xFFFFFFFFu;
+  static constexpr std::uint32_t empty = 0x7FFFFFFFu;     ///< no pixel (end of a list)
+  static constexpr std::uint32_t unqueued = 0x80000000u;  ///< see `peel`
 
   [[nodiscard]] status run(image_view<const std::uint8_t> mask,
                            image_view<const std::uint32_t> dist2,
@@ -97,12 +99,14 @@ struct medial_axis {
     const std::size_t cells = in_place ? static_cast<std::size_t>(img.stride) *
                                              static_cast<std::size_t>(img.height)
                                        : detail::padded_pixels(img.width, img.height);
+    // Pixel indices must stay below `empty` (only a degenerate strip, e.g. 1 × 2^30, reaches it).
+    if (cells >= empty) return fail(errc::image_too_large, "medial_axis: too many pixels");
     auto next_memory = ws.allocate<std::uint32_t>(cells + 16);
     if (!next_memory) return unexpected{next_memory.error()};
     std::uint32_t* next = next_memory->data();
     const status peeled = in_place && dist2.stride() == img.stride
-                              ? peel(img, next, ws, key_by_index{dist2.data(), cap})
-                              : peel(img, next, ws, key_by_position{&img, dist2, cap});
+                              ? peel(img, next, ws, cap, key_by_index{dist2.data(), cap})
+                              : peel(img, next, ws, cap, key_by_position{&img, dist2, cap});
     if (!peeled) return peeled;
     if (thinness == perch::thinness::one_pixel)
       (void)detail::remove_blocks(img, mask, dist2, next);
@@ -129,12 +133,11 @@ struct medial_axis {
   };
 
   /// The monotone bucket queue: FIFO lists per key, linked through `next`, heads and tails
-  /// per key up to the largest key present. Bit 1 of a pixel flags it as queued.
+  /// per key up to the largest key present.
   struct buckets {
     std::uint32_t* next;
     std::uint32_t* head;
     std::uint32_t* tail;
-    std::uint8_t* px;
 
     void push(std::uint32_t u, std::uint32_t key) noexcept {
       next[u] = empty;
@@ -144,45 +147,38 @@ struct medial_axis {
         next[tail[key]] = u;
       }
       tail[key] = u;
-      px[u] |= 2u;
     }
   };
 
-  /// `next` doubles as the key store: a pixel out of the queue holds its key there (filled in
-  /// one raster pass, so the peeling never reads `dist2`), and a popped pixel the bucket it left,
-  /// which is at least its key and at most any later bucket, so it re-enters at the current one
-  /// as with its key. The same pass finds the largest key, which sizes the buckets, and links the
-  /// border pixels (the first to queue) in raster order.
+  /// `next` doubles as the key store: a pixel out of the queue holds `unqueued` + its key there
+  /// (filled in one raster pass, so the peeling never reads `dist2`), a queued one its link
+  /// (below `unqueued`: pixel indices are below `empty`, keys below 2^31), and a popped pixel kept
+  /// `unqueued` + the bucket it left, which is at least its key and at most any later bucket,
+  /// so it re-enters at the current one as with its key. The same pass queues the border pixels
+  /// (in raster order); the buckets have room for every key up to `cap` and are made empty up
+  /// to the largest key seen so far.
   template <class Key>
   [[nodiscard]] static status peel(const detail::padded_image& img, std::uint32_t* next,
-                                   workspace& ws, Key key_of) noexcept {
+                                   workspace& ws, std::uint32_t cap, Key key_of) noexcept {
     std::uint8_t* px = img.px;
-    std::uint32_t top_key = 0;
-    std::uint32_t border_first = empty;
-    std::uint32_t border_last = empty;
-    detail::for_each_foreground(img, [&](std::ptrdiff_t i) {
-      const std::uint32_t key = key_of(i);
-      top_key = key > top_key ? key : top_key;
-      const auto u = static_cast<std::uint32_t>(i);
-      if (img.on_border(i)) {
-        (border_first == empty ? border_first : next[border_last]) = u;
-        border_last = u;
-      } else {
-        next[u] = key;
-      }
-    });
-    if (border_last != empty) next[border_last] = empty;
-    auto head_memory = ws.allocate<std::uint32_t>(std::size_t{top_key} + 1);
-    auto tail_memory = ws.allocate<std::uint32_t>(std::size_t{top_key} + 1);
+    auto head_memory = ws.allocate<std::uint32_t>(std::size_t{cap} + 1);
+    auto tail_memory = ws.allocate<std::uint32_t>(std::size_t{cap} + 1);
     if (!head_memory) return unexpected{head_memory.error()};
     if (!tail_memory) return unexpected{tail_memory.error()};
-    buckets q{next, head_memory->data(), tail_memory->data(), px};
-    for (std::uint32_t k = 0; k <= top_key; ++k) q.head[k] = empty;
-    for (std::uint32_t u = border_first; u != empty;) {
-      const std::uint32_t after = next[u];
-      q.push(u, key_of(static_cast<std::ptrdiff_t>(u)));
-      u = after;
-    }
+    buckets q{next, head_memory->data(), tail_memory->data()};
+    std::uint32_t top_key = 0;
+    q.head[0] = empty;
+    detail::for_each_run(img, [&](std::ptrdiff_t first, std::ptrdiff_t end) {
+      std::uint32_t run_top = top_key;
+      for (std::ptrdiff_t i = first; i < end; ++i) {
+        const std::uint32_t key = key_of(i);
+        run_top = key > run_top ? key : run_top;
+        next[i] = unqueued + key;
+      }
+      while (top_key < run_top) q.head[++top_key] = empty;
+      for (std::ptrdiff_t i = first; i < end; ++i)
+        if (img.on_border(i)) q.push(static_cast<std::uint32_t>(i), next[i] - unqueued);
+    });
 
     std::ptrdiff_t offset[8];
     for (int k = 0; k < 8; ++k) offset[k] = img.offset[k];
@@ -191,25 +187,28 @@ struct medial_axis {
         const std::uint32_t i = q.head[current];
         const std::uint32_t after = next[i];
         q.head[current] = after;
-        if (after != empty) {
-          // The pixels of a level lie all over the image: fetch the next one's neighbourhood
-          // while this one is worked on (a hint only; no effect on the result).
-          detail::prefetch(px + after - img.stride);
-          detail::prefetch(px + after + img.stride);
-          detail::prefetch(next + after - img.stride);
-          detail::prefetch(next + after);
-          detail::prefetch(next + after + img.stride);
+        if (after != empty && next[after] != empty) {
+          // The pixels of a level lie all over the image: fetch the neighbourhood of the one
+          // after next while this one is worked on (a hint only; no effect on the result).
+          const std::uint32_t ahead = next[after];
+          detail::prefetch(px + ahead - img.stride);
+          detail::prefetch(px + ahead);
+          detail::prefetch(px + ahead + img.stride);
+          detail::prefetch(next + ahead - img.stride);
+          detail::prefetch(next + ahead);
+          detail::prefetch(next + ahead + img.stride);
         }
-        px[i] &= static_cast<std::uint8_t>(~2u);
-        next[i] = current;
         const unsigned c = img.code(i);
-        if (!detail::deletable_table[c]) continue;
+        if (!detail::deletable_table[c]) {
+          next[i] = unqueued + current;
+          continue;
+        }
         px[i] = 0;
         // The neighbours left (the bits of the code), in code order, unless already queued.
         for (unsigned left = c; left != 0; left &= left - 1) {
           const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(i) + offset[std::countr_zero(left)];
-          if ((px[n] & 2u) != 0) continue;
-          const std::uint32_t key = next[n];
+          if (next[n] < unqueued) continue;
+          const std::uint32_t key = next[n] - unqueued;
           q.push(static_cast<std::uint32_t>(n), key > current ? key : current);
         }
       }

@@ -20,6 +20,7 @@
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/row_scan.hpp"
 #include "perch/core/workspace.hpp"
 
 namespace perch::detail {
@@ -249,27 +250,29 @@ inline void store_skeleton(const padded_image& img, image_view<std::uint8_t> out
   }
 }
 
-/// Calls `visit(i)` for every foreground pixel of the working image, in raster order, skipping
-/// eight background bytes at a time.
+/// Calls `visit(first, end)` for every run [first, end) of foreground pixels in a row of the
+/// working image, in raster order, skipping eight background bytes at a time. Precondition: no
+/// flag is set yet (every byte is 0 or 1); `visit` may set flags on the run it is given.
 template <class Visit>
-inline void for_each_foreground(const padded_image& img, Visit&& visit) noexcept {
+inline void for_each_run(const padded_image& img, Visit&& visit) noexcept {
   for (int y = 0; y < img.height; ++y) {
     const std::ptrdiff_t row = img.index(0, y);
     const std::uint8_t* p = img.px + row;
-    int x = 0;
-    while (x < img.width) {
-      if (x + 8 <= img.width) {
-        std::uint64_t word = 0;
-        std::memcpy(&word, p + x, 8);
-        if ((word & 0x0101010101010101ull) == 0) {
-          x += 8;
-          continue;
-        }
-      }
-      if ((p[x] & 1u) != 0) visit(row + x);
-      ++x;
+    for (int a = next_set(p, 0, img.width); a < img.width;) {
+      const int b = next_clear(p, a, img.width);
+      visit(row + a, row + b);
+      a = next_set(p, b, img.width);
     }
   }
+}
+
+/// Calls `visit(i)` for every foreground pixel of the working image, in raster order (as
+/// `for_each_run`, same precondition).
+template <class Visit>
+inline void for_each_foreground(const padded_image& img, Visit&& visit) noexcept {
+  for_each_run(img, [&](std::ptrdiff_t first, std::ptrdiff_t end) {
+    for (std::ptrdiff_t i = first; i < end; ++i) visit(i);
+  });
 }
 
 /// Deletes simple non-end pixels among the neighbours of the pixels in `seeds` (and of what it
