@@ -424,7 +424,7 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   out.dist2 = dist;
   out.timing.distance_ms = clock.lap();
 
-  auto skeleton_pixels = ws.allocate_zeroed<std::uint8_t>(n);
+  auto skeleton_pixels = ws.allocate<std::uint8_t>(n);  // the skeletoniser writes every pixel
   if (!skeleton_pixels) return unexpected{skeleton_pixels.error()};
   const image_view<std::uint8_t> skeleton(skeleton_pixels->data(), w, h);
   PERCH_TRY(skeletoniser(image_view<const std::uint8_t>(local),

@@ -160,6 +160,11 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
             nr[u] = from_above ? y - static_cast<std::int32_t>(up)
                                : y + static_cast<std::int32_t>(dn[c]);
         }
+        if (Out == edt_output::squared && sites <= detail::short_run_sites) {
+          detail::nearest_sites_short(g, sites, d + (a - 1));
+          x = b + 1;
+          continue;
+        }
         detail::envelope_sq(g, sites, s->data(), t->data(), site->data());
         for (int u = 1; u + 1 < sites; ++u) {
           const std::int32_t i = (*site)[static_cast<std::size_t>(u)];
@@ -204,7 +209,9 @@ template <class Mask, class Dist>
 /// found eight mask bytes at a time: phase 1 counts a column's run length only on foreground
 /// (a pixel whose upper neighbour is background starts at 1), and a run [a, b] of a row needs
 /// only the sites a−1 … b+1 in phase 2 (the background at a−1 and b+1 is nearer than any site
-/// beyond it). So only the mask is read whole; the rest costs O(foreground).
+/// beyond it; runs of up to 30 pixels search outward from each pixel instead of building the
+/// envelope, with the same result). So only the mask is read whole; the rest costs
+/// O(foreground).
 ///
 /// Preconditions: none (bad input is reported). Errors: view errors of `mask` (empty, null
 /// data, stride < width, too large) or `dist2`, `size_mismatch` when they differ in size,

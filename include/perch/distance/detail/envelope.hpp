@@ -1,6 +1,7 @@
 /// \file
 /// Private helpers of the distance stage: the lower envelope of parabolas of one foreground run
-/// (the second phase of Meijster, Roerdink & Hesselink 2000).
+/// (the second phase of Meijster, Roerdink & Hesselink 2000), and a direct search that gives the
+/// same distances on short runs.
 #pragma once
 
 #include <cmath>
@@ -55,6 +56,30 @@ inline void envelope_sq(const std::uint32_t* g, int m, std::int32_t* s, std::int
   for (int u = m - 1; u >= 0; --u) {
     site[u] = s[q];
     if (u == t[q]) --q;
+  }
+}
+
+/// Runs of at most this many sites (thin limbs crossed by a row) take `nearest_sites_short`
+/// (measured: EDT of the 1920×1080 tree mask 1.91 → 1.74 ms; 12, 20, 48 and 64 gain less).
+inline constexpr int short_run_sites = 32;
+
+/// The minimum of (u − i)² + g[i]² over the sites i of a short run (`m` sites, the first and last
+/// background), written to `out[u]` for u in [1, m − 1): a search outward from u, which stops
+/// once the offset alone costs as much as the best so far (the background sites 0 and m − 1
+/// bound it from the start). No division; for short runs cheaper than building the envelope.
+inline void nearest_sites_short(const std::uint32_t* g, int m, std::uint32_t* out) noexcept {
+  for (int u = 1; u + 1 < m; ++u) {
+    const auto left = static_cast<std::uint32_t>(u);
+    const auto right = static_cast<std::uint32_t>(m - 1 - u);
+    std::uint32_t best = left < right ? left * left : right * right;
+    for (int k = 0; static_cast<std::uint32_t>(k * k) < best; ++k) {
+      const auto k2 = static_cast<std::uint32_t>(k * k);
+      const std::uint32_t below = g[u - k];
+      const std::uint32_t above = g[u + k];
+      const std::uint32_t v = k2 + (below < above ? below * below : above * above);
+      best = v < best ? v : best;
+    }
+    out[u] = best;
   }
 }
 
