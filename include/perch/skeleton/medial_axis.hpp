@@ -105,8 +105,8 @@ struct medial_axis {
     if (!next_memory) return unexpected{next_memory.error()};
     std::uint32_t* next = next_memory->data();
     const status peeled = in_place && dist2.stride() == img.stride
-                              ? peel(img, next, ws, cap, key_by_index{dist2.data(), cap})
-                              : peel(img, next, ws, cap, key_by_position{&img, dist2, cap});
+                              ? peel(img, next, ws, cap, key_by_index{dist2.data()})
+                              : peel(img, next, ws, cap, key_by_position{&img, dist2});
     if (!peeled) return peeled;
     if (thinness == perch::thinness::one_pixel)
       (void)detail::remove_blocks(img, mask, dist2, next);
@@ -114,21 +114,19 @@ struct medial_axis {
     return {};
   }
 
-  /// The peeling key of a pixel of the working image, min(dist2, cap): read by index when
-  /// `dist2` is laid out like the working image, else through the pixel's position.
+  /// Where the distances of a run of the working image starting at pixel `i` are: at the same
+  /// index when `dist2` is laid out like the working image, else found from the run's position
+  /// (a run lies in one row of both images).
   struct key_by_index {
     const std::uint32_t* d;
-    std::uint32_t cap;
-    std::uint32_t operator()(std::ptrdiff_t i) const noexcept { return d[i] < cap ? d[i] : cap; }
+    const std::uint32_t* run(std::ptrdiff_t i) const noexcept { return d + i; }
   };
   struct key_by_position {
     const detail::padded_image* img;
     image_view<const std::uint32_t> dist2;
-    std::uint32_t cap;
-    std::uint32_t operator()(std::ptrdiff_t i) const noexcept {
+    const std::uint32_t* run(std::ptrdiff_t i) const noexcept {
       const pixel p = img->position(i);
-      const std::uint32_t v = dist2(p.x, p.y);
-      return v < cap ? v : cap;
+      return &dist2(p.x, p.y);
     }
   };
 
@@ -157,9 +155,9 @@ struct medial_axis {
   /// so it re-enters at the current one as with its key. The same pass queues the border pixels
   /// (in raster order); the buckets have room for every key up to `cap` and are made empty up
   /// to the largest key seen so far.
-  template <class Key>
+  template <class Distances>
   [[nodiscard]] static status peel(const detail::padded_image& img, std::uint32_t* next,
-                                   workspace& ws, std::uint32_t cap, Key key_of) noexcept {
+                                   workspace& ws, std::uint32_t cap, Distances distances) noexcept {
     std::uint8_t* px = img.px;
     auto head_memory = ws.allocate<std::uint32_t>(std::size_t{cap} + 1);
     auto tail_memory = ws.allocate<std::uint32_t>(std::size_t{cap} + 1);
@@ -169,9 +167,11 @@ struct medial_axis {
     std::uint32_t top_key = 0;
     q.head[0] = empty;
     detail::for_each_run(img, [&](std::ptrdiff_t first, std::ptrdiff_t end) {
+      // The key: dist2, clamped to `cap`.
+      const std::uint32_t* d = distances.run(first);
       std::uint32_t run_top = top_key;
       for (std::ptrdiff_t i = first; i < end; ++i) {
-        const std::uint32_t key = key_of(i);
+        const std::uint32_t key = d[i - first] < cap ? d[i - first] : cap;
         run_top = key > run_top ? key : run_top;
         next[i] = unqueued + key;
       }
