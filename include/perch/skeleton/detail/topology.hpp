@@ -342,18 +342,29 @@ inline std::size_t remove_blocks(const padded_image& img, image_view<const std::
       const std::ptrdiff_t row = img.index(0, y);
       const std::uint8_t* r0 = img.px + row;
       const std::uint8_t* r1 = r0 + s;
+      // Non-zero iff a block starts in [x0, x0 + 8·words) (reads x0 … x0 + 8·words of both
+      // rows); the scan skips 64, then 8 positions at a time where none does.
+      auto block_bits = [&](int x0, int words) {
+        std::uint64_t any = 0;
+        for (int k = 0; k < words; ++k) {
+          std::uint64_t a = 0, b = 0, c = 0, d = 0;
+          std::memcpy(&a, r0 + x0 + 8 * k, 8);
+          std::memcpy(&b, r0 + x0 + 8 * k + 1, 8);
+          std::memcpy(&c, r1 + x0 + 8 * k, 8);
+          std::memcpy(&d, r1 + x0 + 8 * k + 1, 8);
+          any |= a & b & c & d;
+        }
+        return any & 0x0101010101010101ull;
+      };
       int x = 0;
       while (x + 1 < img.width) {
-        if (x + 9 <= img.width) {
-          std::uint64_t a = 0, b = 0, c = 0, d = 0;
-          std::memcpy(&a, r0 + x, 8);
-          std::memcpy(&b, r0 + x + 1, 8);
-          std::memcpy(&c, r1 + x, 8);
-          std::memcpy(&d, r1 + x + 1, 8);
-          if ((a & b & c & d & 0x0101010101010101ull) == 0) {
-            x += 8;
-            continue;
-          }
+        if (x + 65 <= img.width && block_bits(x, 8) == 0) {
+          x += 64;
+          continue;
+        }
+        if (x + 9 <= img.width && block_bits(x, 1) == 0) {
+          x += 8;
+          continue;
         }
         const std::ptrdiff_t i = row + x;
         ++x;
