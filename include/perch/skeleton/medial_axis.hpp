@@ -105,8 +105,8 @@ struct medial_axis {
     if (!next_memory) return unexpected{next_memory.error()};
     std::uint32_t* next = next_memory->data();
     const status peeled = in_place && dist2.stride() == img.stride
-                              ? peel(img, next, ws, cap, key_by_index{dist2.data()})
-                              : peel(img, next, ws, cap, key_by_position{&img, dist2});
+                              ? peel(img, next, ws, cap, distances_by_index{dist2.data()})
+                              : peel(img, next, ws, cap, distances_by_position{&img, dist2});
     if (!peeled) return peeled;
     if (thinness == perch::thinness::one_pixel)
       (void)detail::remove_blocks(img, mask, dist2, next);
@@ -117,11 +117,11 @@ struct medial_axis {
   /// Where the distances of a run of the working image starting at pixel `i` are: at the same
   /// index when `dist2` is laid out like the working image, else found from the run's position
   /// (a run lies in one row of both images).
-  struct key_by_index {
+  struct distances_by_index {
     const std::uint32_t* d;
     const std::uint32_t* run(std::ptrdiff_t i) const noexcept { return d + i; }
   };
-  struct key_by_position {
+  struct distances_by_position {
     const detail::padded_image* img;
     image_view<const std::uint32_t> dist2;
     const std::uint32_t* run(std::ptrdiff_t i) const noexcept {
