@@ -162,17 +162,16 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
         }
         if (Out == edt_output::squared && sites <= detail::short_run_sites) {
           detail::nearest_sites_short(g, sites, d + (a - 1));
-          x = b + 1;
-          continue;
-        }
-        detail::envelope_sq(g, sites, s->data(), t->data(), site->data());
-        for (int u = 1; u + 1 < sites; ++u) {
-          const std::int32_t i = (*site)[static_cast<std::size_t>(u)];
-          const auto dx = static_cast<std::uint32_t>(u > i ? u - i : i - u);
-          d[a - 1 + u] = dx * dx + g[i] * g[i];
-          if constexpr (Out == edt_output::nearest) {
-            const bool edge = i == 0 || i == sites - 1;
-            row_pointer(near, y)[a - 1 + u] = pixel{a - 1 + i, edge ? y : nr[i]};
+        } else {
+          detail::envelope_sq(g, sites, s->data(), t->data(), site->data());
+          for (int u = 1; u + 1 < sites; ++u) {
+            const std::int32_t i = (*site)[static_cast<std::size_t>(u)];
+            const auto dx = static_cast<std::uint32_t>(u > i ? u - i : i - u);
+            d[a - 1 + u] = dx * dx + g[i] * g[i];
+            if constexpr (Out == edt_output::nearest) {
+              const bool edge = i == 0 || i == sites - 1;
+              row_pointer(near, y)[a - 1 + u] = pixel{a - 1 + i, edge ? y : nr[i]};
+            }
           }
         }
       }

@@ -107,14 +107,14 @@ inline status thin_two_subiterations(const neighbourhood_table* tables,
   int sub = 0;
   while (size[0] + size[1] > 0) {
     const neighbourhood_table& table = tables[sub];
-    const std::uint32_t* todo = list[sub];
-    const std::size_t todo_size = size[sub];
+    const std::uint32_t* listed = list[sub];
+    const std::size_t listed_count = size[sub];
     std::size_t count = 0;
     // Decides with loads only: a byte stored here would stall the next word loads over it.
-    for (std::size_t k = 0; k < todo_size; ++k) {
-      const std::uint32_t i = todo[k];
-      if (k + 16 < todo_size) {
-        const std::uint8_t* ahead = px + todo[k + 16];
+    for (std::size_t k = 0; k < listed_count; ++k) {
+      const std::uint32_t i = listed[k];
+      if (k + 16 < listed_count) {
+        const std::uint8_t* ahead = px + listed[k + 16];
         prefetch(ahead - img.stride);
         prefetch(ahead);
         prefetch(ahead + img.stride);
@@ -123,8 +123,8 @@ inline status thin_two_subiterations(const neighbourhood_table* tables,
       deleted[count] = i;
       count += (px[i] & 1u) & static_cast<unsigned>(table[gathered_code(px + i, img.stride)]);
     }
-    for (std::size_t k = 0; k < todo_size; ++k)
-      px[todo[k]] &= static_cast<std::uint8_t>(~flag[sub]);
+    for (std::size_t k = 0; k < listed_count; ++k)
+      px[listed[k]] &= static_cast<std::uint8_t>(~flag[sub]);
     size[sub] = 0;
     for (std::size_t k = 0; k < count; ++k) px[deleted[k]] &= static_cast<std::uint8_t>(~1u);
     for (std::size_t k = 0; k < count; ++k) {
