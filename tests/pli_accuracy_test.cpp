@@ -3,17 +3,17 @@
 // stretch (examples/support/support/synthetic_tree.hpp, `perch_truth`) in ≥ 95 % of the trees that
 // have one, and trees built without any feasible perch must give `no_perch`.
 //
-// STATUS: the pipeline reaches 88.6 % (issue 5 stays open), and picks a wrong site on 8 trees.
-// Windows are one drone width of true arc length (chords, not 8-connected steps, which read a
-// diagonal branch up to 8 % long and so let a window overlap a junction): that took the wrong
-// sites from 13 to 8 and turned 6 trees whose only true stretch is about one window long (less
-// than 3 px of slack) into "no perch", where the trimming at junctions is a few pixels more
-// cautious than the truth. Of the 19 misses, 12 are "no perch though one exists" (those 6; 3
-// whose true stretch has a claw diameter within a pixel of the claw's 30 mm minimum, where a
-// mask cannot tell 29.5 from 30.5 mm; 3 whose stretch runs past a touching limb or a small
-// hole), 3 "diameter" (noisy outlines read 2-7 mm wide near the 30 mm minimum), 3 "off_limb",
-// 1 junction; the printed failures say which. The checks below hold the measured levels as
-// regression floors; the issue's 95 % target is printed beside it, not asserted.
+// STATUS: the pipeline reaches 91.6 % (issue 5 stays open), and picks a wrong site on 6 trees.
+// Of the 14 misses, 9 are "no perch though one exists": 3 whose claw diameter is within a pixel
+// of the claw's 30 mm minimum plus the constraint's half-pixel margin (43, 204, 234); 4 whose
+// only true stretch is about one window long, where the trimming at a junction is 1-6 px more
+// cautious than the truth (52, 68, 72, 138); 2 noisy trees where a side limb leaving at a
+// narrow angle joins the limb's skeleton far beyond its true base (51, 134). The wrong sites:
+// 3 "diameter" (noisy outlines read 2-7 mm wide near the 30 mm minimum), 1 "off_limb" (a fork
+// whose skeleton node sits beyond the true fork, so the window runs over it), 1 junction (within
+// 1.4 px of the tolerance), 1 on a tree without a true perch. The printed failures say which.
+// The checks below hold the measured levels as regression floors; the issue's 95 % target is
+// printed beside it, not asserted.
 #include "perch/pli.hpp"
 
 #include <doctest/doctest.h>
@@ -202,8 +202,8 @@ TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known 
   CHECK(without_truth >= 20);
   CHECK(with_truth >= 100);
   MESSAGE("issue 5 target: 95 % where a perch exists; measured " << 100.0 * rate << " %");
-  CHECK(rate >= 0.88);           // regression floor at the measured level (88.6 %)
-  CHECK(incorrect <= 8);         // measured: 8 wrong sites, 1 on a tree without a truth perch
+  CHECK(rate >= 0.915);          // regression floor at the measured level (91.6 %)
+  CHECK(incorrect <= 6);         // measured: 6 wrong sites, 1 on a tree without a truth perch
   CHECK(wrong_when_none <= 1);
 }
 
@@ -269,8 +269,8 @@ TEST_CASE("find_perch: the accuracy cost of perch_options::downscale (issue 8)" 
   for (const float factor : {0.5f, 0.25f}) {
     const downscale_score score = score_downscaled(factor, 1);
     CHECK(score.errors == 0);
-    // Regression floors at the measured levels (76.0 % at 0.5, 58.7 % at 0.25).
-    CHECK(score.rate() >= (factor == 0.5f ? 0.755 : 0.58));
+    // Regression floors at the measured levels (76.0 % at 0.5, 61.1 % at 0.25).
+    CHECK(score.rate() >= (factor == 0.5f ? 0.755 : 0.605));
   }
 }
 

@@ -162,6 +162,12 @@ struct branch_stretch {
 /// gap within which two limbs touch.
 inline constexpr float junction_gap_px = 1.5f;
 
+/// How far (px) the smoothed radius at a narrow fork's waist lies below the radii on both sides
+/// of it (`outside_junctions`). The distance map's radii are square roots of integers, and the
+/// mean over three points steadies them; on the accuracy population 0.25 px finds waists in
+/// noise (150 of 167 trees right), 0.5 px 153 with 6 wrong sites, 0.75 px 152 with 7.
+inline constexpr float waist_drop_px = 0.5f;
+
 /// Another branch at a junction, as the trimming of `outside_junctions` sees it: a straight limb
 /// of radius `radius_px` that leaves along `direction` from `base` (the point where its axis,
 /// extended back through the junction, meets the trimmed branch's centreline).
@@ -214,7 +220,10 @@ template <class OwnAt>
   const point2f p = to_point(own_at(best));
   out.base = a + u * u.dot(p - a);
   out.direction = u;
-  out.radius_px = axis.radius_px;
+  // The limb's radius at the junction: where its stretch starts, but no more than the stretch's
+  // mean, which the crotch of a fork inflates near the node. A limb that thickens away from the
+  // junction (the parent below a side limb) is read at its near end, not down where it is wider.
+  out.radius_px = std::min(axis.radius_near_px, axis.radius_px);
   out.valid = true;
   return out;
 }
@@ -229,9 +238,12 @@ template <class OwnAt>
 /// the junction to where its axis meets this branch (`limb_at_junction`: a limb is modelled as
 /// starting on its parent's axis, so the part of it hidden inside the parent counts too). The
 /// window then starts where the branch is clear of every limb at the junction, however oblique
-/// the fork. At a tip, the points within their own radius (arc length) of the end are left out:
-/// the medial axis runs on into the tip's round cap, past where the limb's axis ends. Loops keep
-/// all their points. `at_from` / `at_to`: whether to trim at that end at all.
+/// the fork. At a narrow fork the node itself sits up to a few radii beyond the true fork (the
+/// medial axis splits only where the limbs' surfaces part), and the trimming reaches back to
+/// the fork's waist (see `waist_drop_px` and the code). At a tip, the points within their own
+/// radius (arc length) of the end are left out: the medial axis runs on into the tip's round
+/// cap, past where the limb's axis ends. Loops keep all their points. `at_from` / `at_to`:
+/// whether to trim at that end at all.
 /// Complexity: O(points of the branches at the junction within a few node radii).
 [[nodiscard]] inline branch_stretch outside_junctions(const skeleton_graph& graph,
                                                       const skeleton_branch& b,
@@ -294,7 +306,34 @@ template <class OwnAt>
     };
     std::size_t k = 0;
     while (k < limit && inside(at(k))) ++k;
-    return k;
+    // A narrow fork: walked back from the node, the radius falls to a waist where the thinner
+    // limbs meet the parent (the true fork) and rises to the parent's again. When such a waist
+    // (a smoothed radius `waist_drop_px` below the trimmed end's and the mean of the 8 points
+    // beyond it) lies within reach, the branch is trimmed to it and on by the waist's radius +
+    // `junction_gap_px`, where the limbs' surfaces are.
+    if (k >= limit) return k;
+    auto smoothed = [&](std::size_t j) {  // mean radius of points j - 1 … j + 1
+      const std::size_t lo = j > 0 ? j - 1 : 0, hi = std::min(j + 1, limit - 1);
+      float sum = 0;
+      for (std::size_t q = lo; q <= hi; ++q) sum += b.radius_px[index(q)];
+      return sum / static_cast<float>(hi - lo + 1);
+    };
+    std::size_t waist = k;
+    for (std::size_t j = k; j < limit && distance2(at(j), node.position) <= reach * reach; ++j)
+      if (smoothed(j) <= smoothed(waist)) waist = j;
+    float beyond = 0;
+    std::size_t count = 0;
+    for (std::size_t j = waist + 2; j < limit && j < waist + 10; ++j, ++count)
+      beyond += b.radius_px[index(j)];
+    const float rim = smoothed(waist) + waist_drop_px;
+    if (count < 4 || beyond < rim * static_cast<float>(count) || smoothed(k) < rim) return k;
+    const float clear = b.radius_px[index(waist)] + junction_gap_px;
+    float arc = 0;
+    while (waist + 1 < limit && arc < clear) {
+      ++waist;
+      arc += std::sqrt(distance2(at(waist), at(waist - 1)));
+    }
+    return waist;
   };
   const std::size_t front = at_from ? trim(b.from, [](std::size_t k) { return k; }, n) : 0;
   const std::size_t back =

@@ -57,6 +57,7 @@ struct leaving_axis {
   point2f start{0, 0};      ///< first point of the stretch
   point2f direction{0, 0};  ///< unit chord of the stretch, away from the node
   float radius_px = 0;      ///< mean radius over the stretch
+  float radius_near_px = 0;  ///< radius at the stretch's first point (nearest the node)
   /// At least two points, a non-zero chord, and every point of the stretch within
   /// `straight_tolerance_px` + 10 % of the chord's length of it: a centreline that bends there
   /// (the medial axis of a limb cut by the image edge forks to the cut's corners) is no axis.
@@ -82,7 +83,10 @@ inline constexpr float straight_tolerance_px = 1.5f;
     const float d = (to_point(edge.points[i]) - centre).norm();
     if (d > far) break;
     if (d < near) continue;
-    if (first == count) first = i;
+    if (first == count) {
+      first = i;
+      out.radius_near_px = edge.radius_px[i];
+    }
     last = i;
     radius_sum += edge.radius_px[i];
     ++radius_n;
