@@ -38,16 +38,12 @@ class tree_pixel_counter {
     x1 = std::min(x1, width() - 1);
     if (x1 < x0) return 0;
     const std::uint8_t* row = detail::row_pointer(mask_, y);
-    constexpr std::uint64_t lows = 0x7F7F7F7F7F7F7F7Fu;
     std::uint32_t n = 0;
     int x = x0;
     for (; x + 8 <= x1 + 1; x += 8) {
       std::uint64_t word = 0;
       std::memcpy(&word, row + x, sizeof word);
-      // 1 in each byte that is non-zero (no carry crosses a byte), then the bytes summed by
-      // one multiplication (a portable popcount is a library call without -mpopcnt).
-      const std::uint64_t ones = ((((word & lows) + lows) | word) & ~lows) >> 7;
-      n += static_cast<std::uint32_t>((ones * 0x0101010101010101u) >> 56);
+      n += detail::byte_sum(detail::nonzero_bytes(word));
     }
     for (; x <= x1; ++x) n += row[x] != 0 ? 1u : 0u;
     return n;

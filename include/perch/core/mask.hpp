@@ -27,22 +27,22 @@ struct pixel_box {
 };
 
 /// The bounding box of the non-zero pixels of `mask` (empty box when there are none).
-/// Complexity: one pass over the rows, eight bytes at a time for byte masks; rows that hold tree
-/// are scanned from both ends only.
+/// Complexity: at most one pass over the rows, eight bytes at a time for byte masks: the first
+/// and last rows with tree are found from the top and the bottom; the rows between are scanned
+/// only left of and right of the columns the box spans so far.
 template <BinaryView Mask>
 [[nodiscard]] pixel_box tree_bounds(const Mask& mask) noexcept {
-  pixel_box box{mask.width(), mask.height(), -1, -1};
   const int w = mask.width();
-  for (int y = 0; y < mask.height(); ++y) {
+  auto empty_row = [&](int y) { return detail::next_set(detail::row_pointer(mask, y), 0, w) == w; };
+  pixel_box box{w, 0, -1, mask.height() - 1};
+  while (box.y_min < mask.height() && empty_row(box.y_min)) ++box.y_min;
+  if (box.y_min == mask.height()) return {};
+  while (empty_row(box.y_max)) --box.y_max;
+  for (int y = box.y_min; y <= box.y_max; ++y) {
     const auto* row = detail::row_pointer(mask, y);
-    const int first = detail::next_set(row, 0, w);
-    if (first == w) continue;
-    box.x_min = std::min(box.x_min, first);
-    box.x_max = std::max(box.x_max, detail::last_set(row, w));
-    box.y_min = std::min(box.y_min, y);
-    box.y_max = y;
+    box.x_min = detail::next_set(row, 0, box.x_min);
+    box.x_max = detail::last_set(row, box.x_max + 1, w);
   }
-  if (box.x_max < 0) return {};
   return box;
 }
 
@@ -131,15 +131,8 @@ template <BinaryView Mask>
   std::int64_t count = 0;
   if (factor == 1.0f) {
     for (int y = box.y_min; y <= box.y_max; ++y) {
-      const auto src = mask.row(y);
-      std::uint8_t* dst = &out.pixels(1, y - box.y_min + 1);
-      std::uint32_t row_count = 0;  // 32-bit lanes: the loop vectorises without widening to 64
-      for (int x = box.x_min; x <= box.x_max; ++x) {
-        const std::uint8_t v = static_cast<bool>(src[static_cast<std::size_t>(x)]) ? 1 : 0;
-        dst[x - box.x_min] = v;
-        row_count += v;
-      }
-      count += row_count;
+      count += detail::binarise_row(detail::row_pointer(mask, y) + box.x_min,
+                                    &out.pixels(1, y - box.y_min + 1), box.width());
     }
     out.tree_pixels = count;
     return out;

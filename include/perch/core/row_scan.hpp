@@ -1,6 +1,6 @@
 /// \file
-/// Rows of an image view, and scanning a mask row for set and clear pixels, eight one-byte
-/// pixels at a time (the usual mask); used by the mask preparation, the distance transform, the
+/// Rows of an image view, and scanning, counting and binarising mask rows eight one-byte pixels
+/// at a time (the usual mask); used by the mask preparation, the distance transform, the
 /// labeller and the clearance counter.
 #pragma once
 
@@ -54,19 +54,55 @@ template <class T>
   return x;
 }
 
-/// Index of the last non-zero pixel of `row[0, width)`, or -1.
+/// Index of the last non-zero pixel of `row` in [from, width), or `from - 1`.
 template <class T>
-[[nodiscard]] inline int last_set(const T* row, int width) noexcept {
+[[nodiscard]] inline int last_set(const T* row, int from, int width) noexcept {
   int x = width - 1;
   if constexpr (byte_pixels<T>) {
-    for (; x >= 7; x -= 8) {
+    for (; x - 7 >= from; x -= 8) {
       std::uint64_t word = 0;
       std::memcpy(&word, row + x - 7, sizeof word);
       if (word != 0) break;
     }
   }
-  while (x >= 0 && !static_cast<bool>(row[x])) --x;
+  while (x >= from && !static_cast<bool>(row[x])) --x;
   return x;
+}
+
+/// 1 in each byte of `word` that is non-zero, 0 in the others (no carry crosses a byte).
+[[nodiscard]] constexpr std::uint64_t nonzero_bytes(std::uint64_t word) noexcept {
+  constexpr std::uint64_t lows = 0x7F7F7F7F7F7F7F7Fu;
+  return ((((word & lows) + lows) | word) & ~lows) >> 7;
+}
+
+/// The sum of the bytes of a word of 0/1 bytes, by one multiplication (a portable popcount is a
+/// library call without -mpopcnt).
+[[nodiscard]] constexpr std::uint32_t byte_sum(std::uint64_t ones) noexcept {
+  return static_cast<std::uint32_t>((ones * 0x0101010101010101u) >> 56);
+}
+
+/// Writes 1 to `dst[i]` for each non-zero `src[i]` and 0 for the others, i ∈ [0, width), eight
+/// one-byte pixels at a time; returns the number of non-zero pixels.
+template <class T>
+[[nodiscard]] inline std::uint32_t binarise_row(const T* src, std::uint8_t* dst,
+                                                int width) noexcept {
+  std::uint32_t count = 0;
+  int x = 0;
+  if constexpr (byte_pixels<T>) {
+    for (; x + 8 <= width; x += 8) {
+      std::uint64_t word = 0;
+      std::memcpy(&word, src + x, sizeof word);
+      word = nonzero_bytes(word);
+      std::memcpy(dst + x, &word, sizeof word);
+      count += byte_sum(word);
+    }
+  }
+  for (; x < width; ++x) {
+    const std::uint8_t v = static_cast<bool>(src[x]) ? 1 : 0;
+    dst[x] = v;
+    count += v;
+  }
+  return count;
 }
 
 }  // namespace perch::detail
