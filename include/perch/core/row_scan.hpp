@@ -4,6 +4,7 @@
 /// labeller and the clearance counter.
 #pragma once
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -79,6 +80,19 @@ template <class T>
 /// library call without -mpopcnt).
 [[nodiscard]] constexpr std::uint32_t byte_sum(std::uint64_t ones) noexcept {
   return static_cast<std::uint32_t>((ones * 0x0101010101010101u) >> 56);
+}
+
+/// Calls `f(i)` for each non-zero byte of `word` (eight pixels read from memory), i ∈ [0, 8) in
+/// memory order: one step per non-zero byte on little-endian machines.
+template <class F>
+inline void for_each_set_byte(std::uint64_t word, F&& f) noexcept {
+  if constexpr (std::endian::native == std::endian::little) {
+    for (std::uint64_t ones = nonzero_bytes(word); ones != 0; ones &= ones - 1)
+      f(std::countr_zero(ones) / 8);
+  } else {
+    for (int i = 0; i < 8; ++i)
+      if (((word >> (56 - 8 * i)) & 0xFFu) != 0) f(i);
+  }
 }
 
 /// Writes 1 to `dst[i]` for each non-zero `src[i]` and 0 for the others, i ∈ [0, width), eight

@@ -11,6 +11,7 @@
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/row_scan.hpp"
 
 namespace perch {
 
@@ -29,15 +30,23 @@ enum class pixel_kind : std::uint8_t {
 template <BinaryView Skeleton>
 [[nodiscard]] constexpr std::uint8_t neighbour_mask(const Skeleton& skeleton, int x,
                                                     int y) noexcept {
-  std::uint8_t mask = 0;
-  const bool inside = x > 0 && y > 0 && x + 1 < skeleton.width() && y + 1 < skeleton.height();
+  if (x > 0 && y > 0 && x + 1 < skeleton.width() && y + 1 < skeleton.height()) {
+    // Inside: three rows read directly, in `neighbours8` order, with no bounds test.
+    const auto* above = detail::row_pointer(skeleton, y - 1) + x;
+    const auto* here = detail::row_pointer(skeleton, y) + x;
+    const auto* below = detail::row_pointer(skeleton, y + 1) + x;
+    auto bit = [](auto v, int i) { return static_cast<unsigned>(static_cast<bool>(v)) << i; };
+    return static_cast<std::uint8_t>(bit(here[1], 0) | bit(above[1], 1) | bit(above[0], 2) |
+                                     bit(above[-1], 3) | bit(here[-1], 4) | bit(below[-1], 5) |
+                                     bit(below[0], 6) | bit(below[1], 7));
+  }
+  unsigned mask = 0;
   for (int i = 0; i < 8; ++i) {
     const int nx = x + neighbours8[i].x;
     const int ny = y + neighbours8[i].y;
-    if ((inside || skeleton.contains(nx, ny)) && static_cast<bool>(skeleton(nx, ny)))
-      mask = static_cast<std::uint8_t>(mask | (1u << i));
+    if (skeleton.contains(nx, ny) && static_cast<bool>(skeleton(nx, ny))) mask |= 1u << i;
   }
-  return mask;
+  return static_cast<std::uint8_t>(mask);
 }
 
 /// The crossing number of a neighbourhood: the number of 0 → 1 transitions met walking once

@@ -1,6 +1,6 @@
 /// \file
 /// Private: visiting the non-zero pixels of a binary view in raster order, skipping runs of
-/// zero bytes eight at a time when the pixels are bytes (skeletons are sparse).
+/// zero bytes 32 at a time when the pixels are bytes (skeletons are sparse).
 #pragma once
 
 #include <cstdint>
@@ -8,6 +8,7 @@
 #include <type_traits>
 
 #include "perch/core/image_view.hpp"
+#include "perch/core/row_scan.hpp"
 
 namespace perch::detail {
 
@@ -19,23 +20,28 @@ constexpr void for_each_set_pixel(const V& view, F&& f) noexcept {
   for (int y = 0; y < view.height(); ++y) {
     const auto row = view.row(y);
     int x = 0;
-    if constexpr (sizeof(value) == 1 && std::is_integral_v<value>) {
+    if constexpr (byte_pixels<value>) {
       if (!std::is_constant_evaluated()) {
         const auto* bytes = reinterpret_cast<const unsigned char*>(row.data());
-        while (x < w) {
-          if (x + 8 <= w) {
-            std::uint64_t chunk = 0;
-            std::memcpy(&chunk, bytes + x, 8);
-            if (chunk != 0)
-              for (int i = 0; i < 8; ++i)
-                if (bytes[x + i] != 0) f(x + i, y);
-            x += 8;
-            continue;
-          }
-          if (bytes[x] != 0) f(x, y);
-          ++x;
+        auto word_at = [&](int at) {
+          std::uint64_t word = 0;
+          std::memcpy(&word, bytes + at, sizeof word);
+          return word;
+        };
+        auto visit = [&](int at, std::uint64_t word) {
+          for_each_set_byte(word, [&](int i) { f(at + i, y); });
+        };
+        // Four words tested at once: skeletons are sparse.
+        for (; x + 32 <= w; x += 32) {
+          const std::uint64_t a = word_at(x), b = word_at(x + 8);
+          const std::uint64_t c = word_at(x + 16), d = word_at(x + 24);
+          if ((a | b | c | d) == 0) continue;
+          visit(x, a);
+          visit(x + 8, b);
+          visit(x + 16, c);
+          visit(x + 24, d);
         }
-        continue;
+        for (; x + 8 <= w; x += 8) visit(x, word_at(x));
       }
     }
     for (; x < w; ++x)
