@@ -101,9 +101,19 @@ inline void curvature_profile(std::span<const pixel> points, std::span<float> cu
   };
   std::span<float> sx = scratch.first(n);
   std::span<float> sy = scratch.subspan(n, n);
+  const auto count = static_cast<float>(2 * h + 1);
+  // The mean of sx over [c − h, c + h] with indices clamped, terms added in that order.
+  auto clamped_mean = [&](std::size_t i) {
+    const auto c = static_cast<std::ptrdiff_t>(i);
+    float acc = 0;
+    std::ptrdiff_t j = c - h;
+    for (; j < 0; ++j) acc += sx[0];
+    for (; j <= std::min(c + h, last); ++j) acc += sx[static_cast<std::size_t>(j)];
+    for (; j <= c + h; ++j) acc += sx[static_cast<std::size_t>(last)];
+    return acc / count;
+  };
   // Moving average of positions (window 2h+1, clamped), by running sums of the integer
   // coordinates (exact).
-  const auto count = static_cast<float>(2 * h + 1);
   std::int64_t ax = 0;
   std::int64_t ay = 0;
   for (std::ptrdiff_t k = -h; k <= h; ++k) {
@@ -142,19 +152,26 @@ inline void curvature_profile(std::span<const pixel> points, std::span<float> cu
     const float speed2 = dx * dx + dy * dy;
     curvature_px[i] = speed2 > 0 ? (dx * ddy - dy * ddx) / (speed2 * std::sqrt(speed2)) : 0.0f;
   }
-  // Moving average of κ (reuse sx as the copy).
+  // Moving average of κ (reuse sx as the copy). Each mean adds its window's terms in order;
+  // away from the ends four neighbouring means are summed side by side (independent chains).
   std::copy(curvature_px.begin(), curvature_px.end(), sx.begin());
-  for (std::size_t i = 0; i < n; ++i) {
-    float acc = 0;
-    const auto c = static_cast<std::ptrdiff_t>(i);
-    if (c >= h && c + h <= last) {  // no clamping: a plain loop the compiler keeps tight
-      const float* window = sx.data() + (c - h);
-      for (std::ptrdiff_t k = 0; k <= 2 * h; ++k) acc += window[k];
-    } else {
-      for (std::ptrdiff_t k = -h; k <= h; ++k) acc += sx[clamp(c + k)];
+  std::size_t i = 0;
+  for (; i < n && static_cast<std::ptrdiff_t>(i) < h; ++i) curvature_px[i] = clamped_mean(i);
+  for (; static_cast<std::ptrdiff_t>(i) + 3 + h <= last; i += 4) {
+    const float* window = sx.data() + (static_cast<std::ptrdiff_t>(i) - h);
+    float a0 = 0, a1 = 0, a2 = 0, a3 = 0;
+    for (std::ptrdiff_t k = 0; k <= 2 * h; ++k) {
+      a0 += window[k];
+      a1 += window[k + 1];
+      a2 += window[k + 2];
+      a3 += window[k + 3];
     }
-    curvature_px[i] = acc / count;
+    curvature_px[i] = a0 / count;
+    curvature_px[i + 1] = a1 / count;
+    curvature_px[i + 2] = a2 / count;
+    curvature_px[i + 3] = a3 / count;
   }
+  for (; i < n; ++i) curvature_px[i] = clamped_mean(i);
 }
 
 /// Slope (°) of the orthogonal least-squares line through `points` against horizon `h`
