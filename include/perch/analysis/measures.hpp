@@ -276,10 +276,16 @@ void cross_section_diameters(const Mask& mask, std::span<const pixel> points,
       const auto whole = static_cast<int>(u);
       return static_cast<float>(whole) > u ? whole - 1 : whole;
     };
+    // Samples lie within cap of c: when that square is inside the view, none needs a bounds test.
+    const float reach = cap + 1.0f;
+    const bool within = static_cast<float>(c.x) >= reach && static_cast<float>(c.y) >= reach &&
+                        static_cast<float>(mask.width() - 1 - c.x) >= reach &&
+                        static_cast<float>(mask.height() - 1 - c.y) >= reach;
     auto tree_at = [&](float t) {
       const int x = nearest(static_cast<float>(c.x) + t * normal.x());
       const int y = nearest(static_cast<float>(c.y) + t * normal.y());
-      return x >= 0 && y >= 0 && x < mask.width() && y < mask.height() && static_cast<bool>(mask(x, y));
+      return (within || (x >= 0 && y >= 0 && x < mask.width() && y < mask.height())) &&
+             static_cast<bool>(mask(x, y));
     };
     // Every pixel centre nearer than d is tree, and a sample's nearest pixel centre is within
     // √2/2 of it: the samples up to d − √2/2 are tree, so the walk starts there (same result,
