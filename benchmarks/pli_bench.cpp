@@ -1,7 +1,8 @@
 // find_perch end to end (issue 8): every platform on the synthetic benchmark trees at 640×480,
 // 1920×1080 and 4000×3000, clean and noisy, one thread, the workspace made once outside the
-// loop. Counters: per-stage milliseconds (medians are taken by --benchmark_repetitions),
-// pixels/s, workspace bytes per pixel and heap allocations per iteration (must be 0).
+// loop (for the tendon claw also in transparent huge pages). Counters: per-stage milliseconds
+// (medians are taken by --benchmark_repetitions), pixels/s, workspace bytes per pixel and heap
+// allocations per iteration (must be 0).
 #include <benchmark/benchmark.h>
 
 #include <atomic>
@@ -12,6 +13,7 @@
 #include <new>
 #include <utility>
 
+#include "perch/core/huge_pages.hpp"
 #include "perch/pli.hpp"
 #include "support/synthetic_tree.hpp"
 
@@ -37,7 +39,8 @@ const perch::support::synthetic_tree& tree_for(int width, int height, tree_noise
   return it->second;
 }
 
-template <class Platform>
+/// `HugePages`: the timed workspace's block comes from `perch::huge_page_resource`.
+template <class Platform, bool HugePages = false>
 void find_perch_on_tree(benchmark::State& state) {
   const int width = static_cast<int>(state.range(0));
   const int height = static_cast<int>(state.range(1));
@@ -54,7 +57,9 @@ void find_perch_on_tree(benchmark::State& state) {
   }
   // The timed calls use one block of the warm call's size, as firmware sizes its buffer: a
   // workspace that grew block by block also counts the block tails it skipped.
-  perch::workspace ws;
+  perch::huge_page_resource huge_pages;
+  perch::workspace ws{HugePages ? static_cast<std::pmr::memory_resource*>(&huge_pages)
+                                : std::pmr::new_delete_resource()};
   if (!ws.reserve(grown.high_water())) {
     state.SkipWithError("reserve");
     return;
@@ -105,6 +110,14 @@ BENCHMARK(find_perch_on_tree<perch::tensile_tether>) PERCH_SIZES;
 BENCHMARK(find_perch_on_tree<perch::metamorphic_quadrotor>) PERCH_SIZES;
 BENCHMARK(find_perch_on_tree<perch::ornithopter>) PERCH_SIZES;
 BENCHMARK(find_perch_on_tree<perch::treecreeper>) PERCH_SIZES;
+
+/// The tendon claw with its workspace in transparent huge pages (Linux; see huge_pages.hpp).
+void find_perch_in_huge_pages(benchmark::State& state) {
+  find_perch_on_tree<perch::tendon_claw, true>(state);
+}
+BENCHMARK(find_perch_in_huge_pages)
+    ->Args({640, 480, 0})->Args({1920, 1080, 0})->Args({4000, 3000, 0})
+    ->Unit(benchmark::kMillisecond);
 
 /// The downscale option: the same 4000×3000 tree analysed at factors 1, 0.5 and 0.25.
 void find_perch_downscaled(benchmark::State& state) {

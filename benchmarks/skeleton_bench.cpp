@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "perch/core/huge_pages.hpp"
 #include "perch/core/image.hpp"
 #include "perch/distance.hpp"
 #include "perch/skeleton.hpp"
@@ -74,13 +75,16 @@ double foreground_share(const perch::image<std::uint8_t>& m) {
   return static_cast<double>(n) / static_cast<double>(m.view().size());
 }
 
-template <class S, bool Blob>
+/// `HugePages`: the workspace in transparent huge pages (`perch::huge_page_resource`).
+template <class S, bool Blob, bool HugePages = false>
 void perch_skeleton(benchmark::State& state, S method) {
   const int w = static_cast<int>(state.range(0)), h = static_cast<int>(state.range(1));
   const auto mask = Blob ? blob_mask(w, h) : tree_mask(w, h);
   perch::image<std::uint32_t> d2(w, h);
   perch::image<std::uint8_t> out(w, h);
-  perch::workspace ws;
+  perch::huge_page_resource huge_pages;
+  perch::workspace ws{HugePages ? static_cast<std::pmr::memory_resource*>(&huge_pages)
+                                : std::pmr::new_delete_resource()};
   if (!perch::distance_transform_sq(mask.view(), d2.view(), ws)) state.SkipWithError("edt");
   if (!method(mask.view(), d2.view(), out.view(), ws)) state.SkipWithError("skeleton");
   for (auto _ : state) {
@@ -100,6 +104,9 @@ void perch_skeleton(benchmark::State& state, S method) {
 using perch::thinness;
 void medial_tree(benchmark::State& s) { perch_skeleton<perch::medial_axis, false>(s, {}); }
 void medial_blob(benchmark::State& s) { perch_skeleton<perch::medial_axis, true>(s, {}); }
+void medial_tree_huge_pages(benchmark::State& s) {
+  perch_skeleton<perch::medial_axis, false, true>(s, {});
+}
 void zhang_tree(benchmark::State& s) { perch_skeleton<perch::zhang_suen, false>(s, {}); }
 void zhang_faithful(benchmark::State& s) {
   perch_skeleton<perch::zhang_suen, false>(s, {.thinness = thinness::faithful});
@@ -110,6 +117,8 @@ void guo_faithful(benchmark::State& s) {
 }
 BENCHMARK(medial_tree)->Name("medial_axis/tree")->Args({640, 480})->Args({1920, 1080})
     ->Args({4000, 3000})->Unit(benchmark::kMillisecond);
+BENCHMARK(medial_tree_huge_pages)->Name("medial_axis_huge_pages/tree")->Args({640, 480})
+    ->Args({1920, 1080})->Args({4000, 3000})->Unit(benchmark::kMillisecond);
 BENCHMARK(medial_blob)->Name("medial_axis/blob50")->Args({1920, 1080})->Unit(benchmark::kMillisecond);
 BENCHMARK(zhang_tree)->Name("zhang_suen/tree")->Args({640, 480})->Args({1920, 1080})
     ->Args({4000, 3000})->Unit(benchmark::kMillisecond);
