@@ -13,13 +13,13 @@
 
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
+#include "perch/core/prefetch.hpp"
 #include "perch/core/result.hpp"
 #include "perch/core/workspace.hpp"
 #include "perch/graph/adjacency_list.hpp"
 #include "perch/graph/detail/records.hpp"
 #include "perch/graph/detail/scan.hpp"
 #include "perch/graph/pixel_kinds.hpp"
-#include "perch/skeleton/detail/topology.hpp"  // detail::prefetch
 
 namespace perch {
 

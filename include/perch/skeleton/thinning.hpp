@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "perch/core/image_view.hpp"
+#include "perch/core/prefetch.hpp"
 #include "perch/core/result.hpp"
 #include "perch/core/workspace.hpp"
 #include "perch/skeleton/detail/topology.hpp"

@@ -19,6 +19,7 @@
 
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
+#include "perch/core/prefetch.hpp"
 #include "perch/core/result.hpp"
 #include "perch/core/row_scan.hpp"
 #include "perch/core/workspace.hpp"
@@ -127,16 +128,6 @@ inline constexpr neighbourhood_table deletable_table = make_deletable_table();
     table[code] = c == 1 && n >= 2 && n <= 3 && !m;
   }
   return table;
-}
-
-/// A hint to fetch the cache line holding `p` (no effect on the result; nothing where the
-/// compiler has no such builtin). `p` need not be dereferenceable.
-inline void prefetch(const void* p) noexcept {
-#if defined(__GNUC__) || defined(__clang__)
-  __builtin_prefetch(p);
-#else
-  (void)p;
-#endif
 }
 
 /// The working image, one byte per pixel with a background frame: either a padded copy,
