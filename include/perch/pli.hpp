@@ -307,10 +307,12 @@ template <class OwnAt>
     std::size_t k = 0;
     while (k < limit && inside(at(k))) ++k;
     // A narrow fork: walked back from the node, the radius falls to a waist where the thinner
-    // limbs meet the parent (the true fork) and rises to the parent's again. When such a waist
-    // (a smoothed radius `waist_drop_px` below the trimmed end's and the mean of the 8 points
-    // beyond it) lies within reach, the branch is trimmed to it and on by the waist's radius +
-    // `junction_gap_px`, where the limbs' surfaces are.
+    // limbs meet the parent (the true fork) and rises to the parent's again. So when this branch
+    // is the parent (no other limb there is thicker) and such a waist (a smoothed radius
+    // `waist_drop_px` below the trimmed end's and the mean of the 8 points beyond it) lies
+    // within reach, the branch is trimmed to it and on by the waist's radius +
+    // `junction_gap_px`, where the limbs' surfaces are. (On a thinner branch, the radius noise
+    // near a wide node looks like a waist and would cut good centreline.)
     if (k >= limit) return k;
     auto smoothed = [&](std::size_t j) {  // mean radius of points j - 1 … j + 1
       const std::size_t lo = j > 0 ? j - 1 : 0, hi = std::min(j + 1, limit - 1);
@@ -318,6 +320,10 @@ template <class OwnAt>
       for (std::size_t q = lo; q <= hi; ++q) sum += b.radius_px[index(q)];
       return sum / static_cast<float>(hi - lo + 1);
     };
+    float widest = 0;  // the thickest other limb at the junction
+    for (std::size_t l = 0; l < limb_count; ++l)
+      if (limbs[l].valid) widest = std::max(widest, limbs[l].radius_px);
+    if (smoothed(k) < widest) return k;
     std::size_t waist = k;
     for (std::size_t j = k; j < limit && distance2(at(j), node.position) <= reach * reach; ++j)
       if (smoothed(j) <= smoothed(waist)) waist = j;
