@@ -82,6 +82,28 @@ image<std::uint32_t> fast_sq(image_view<const std::uint8_t> mask) {
   return d;
 }
 
+// Every squared variant (with nearest pixels, plain, foreground only) against `brute_force`.
+void check_against_brute_force(image_view<const std::uint8_t> m) {
+  const int w = m.width(), h = m.height();
+  const auto ref = brute_force(m);
+  workspace ws;
+  image<std::uint32_t> d(w, h, 7);
+  image<pixel> nearest(w, h, pixel{-9, -9});
+  REQUIRE(perch::distance_transform_sq(m, d.view(), nearest.view(), ws));
+  image<std::uint32_t> d_plain(w, h, 7);
+  REQUIRE(perch::distance_transform_sq(m, d_plain.view(), ws));
+  // The foreground-only variant: the same distances on the foreground, background untouched.
+  image<std::uint32_t> d_fg(w, h, 7);
+  REQUIRE(perch::distance_transform_sq_foreground(m, d_fg.view(), ws));
+  bool same = true;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      same = same && d(x, y) == ref.dist2(x, y) && d_plain(x, y) == ref.dist2(x, y) &&
+             nearest(x, y) == ref.nearest(x, y) &&
+             d_fg(x, y) == (m(x, y) != 0 ? ref.dist2(x, y) : 7u);
+  CHECK_MESSAGE(same, "mask:\n" << perch::support::to_ascii(m));
+}
+
 }  // namespace
 
 TEST_CASE("distance_transform_sq: ASCII cases") {
@@ -145,30 +167,25 @@ TEST_CASE("distance_transform_sq: equals brute force on thousands of random mask
     for (const auto& s : sizes) {
       const double density = std::uniform_real_distribution<double>(0.05, 0.98)(rng);
       const auto m = random_mask(rng, s[0], s[1], density);
-      const auto ref = brute_force(m.view());
-      workspace ws;
-      image<std::uint32_t> d(s[0], s[1], 7);
-      image<pixel> nearest(s[0], s[1], pixel{-9, -9});
-      REQUIRE(perch::distance_transform_sq(m.view(), d.view(), nearest.view(), ws));
-      image<std::uint32_t> d_plain(s[0], s[1], 7);
-      REQUIRE(perch::distance_transform_sq(m.view(), d_plain.view(), ws));
-      // The foreground-only variant: the same distances on the foreground, background untouched.
-      image<std::uint32_t> d_fg(s[0], s[1], 7);
-      REQUIRE(perch::distance_transform_sq_foreground(m.view(), d_fg.view(), ws));
-      bool same = true;
-      for (int y = 0; y < s[1]; ++y)
-        for (int x = 0; x < s[0]; ++x) {
-          same = same && d(x, y) == ref.dist2(x, y) && d_plain(x, y) == ref.dist2(x, y) &&
-                 nearest(x, y) == ref.nearest(x, y) &&
-                 d_fg(x, y) == (m(x, y) != 0 ? ref.dist2(x, y) : 7u);
-        }
-      if (!same) {
-        INFO("mask:\n" << perch::support::to_ascii(m.view()));
-        CHECK(same);
-      }
+      check_against_brute_force(m.view());
       ++compared;
     }
   CHECK(compared == 3000);
+}
+
+TEST_CASE("distance_transform_sq: equals brute force on thick shapes (long runs, tall columns)") {
+  // Rows crossing a shape wider than the short-run search take the parabola envelope, which
+  // skips columns taller than half the run; these masks have such runs and columns.
+  std::mt19937 rng(20261125);
+  const int sizes[][2] = {{48, 40}, {72, 56}, {40, 72}, {100, 24}};
+  int compared = 0;
+  for (int round = 0; round < 10; ++round)
+    for (const auto& s : sizes) {
+      const auto m = random_mask(rng, s[0], s[1], 0.08);
+      check_against_brute_force(m.view());
+      ++compared;
+    }
+  CHECK(compared == 40);
 }
 
 TEST_CASE("distance_transform: anisotropic real distances equal brute force") {

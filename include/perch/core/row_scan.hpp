@@ -23,7 +23,10 @@ template <class T>
 inline constexpr bool byte_pixels = sizeof(T) == 1 && std::is_integral_v<std::remove_cv_t<T>>;
 
 /// Skips eight-pixel words of a byte row from `x` while all eight pixels are non-zero
-/// (`NonZero` true; the classic has-a-zero-byte test) or all are zero (`NonZero` false).
+/// (`NonZero` true; the classic has-a-zero-byte test) or all are zero (`NonZero` false). On
+/// little-endian machines it stops on the first pixel that differs (the lowest flagged byte of
+/// the word that breaks the run: the has-a-zero-byte test is exact there), elsewhere on that
+/// word's first pixel.
 template <bool NonZero, class T>
 [[nodiscard]] inline int skip_words(const T* row, int x, int width) noexcept {
   static_assert(byte_pixels<T>);
@@ -32,8 +35,12 @@ template <bool NonZero, class T>
   while (x + 8 <= width) {
     std::uint64_t word = 0;
     std::memcpy(&word, row + x, sizeof word);
-    const bool uniform = NonZero ? ((word - ones) & ~word & highs) == 0 : word == 0;
-    if (!uniform) break;
+    const std::uint64_t differs = NonZero ? (word - ones) & ~word & highs : word;
+    if (differs != 0) {
+      if constexpr (std::endian::native == std::endian::little)
+        x += std::countr_zero(differs) / 8;
+      break;
+    }
     x += 8;
   }
   return x;
@@ -63,7 +70,11 @@ template <class T>
     for (; x - 7 >= from; x -= 8) {
       std::uint64_t word = 0;
       std::memcpy(&word, row + x - 7, sizeof word);
-      if (word != 0) break;
+      if (word != 0) {  // little-endian: the highest set bit lies in the last non-zero byte
+        if constexpr (std::endian::native == std::endian::little)
+          x -= std::countl_zero(word) / 8;
+        break;
+      }
     }
   }
   while (x >= from && !static_cast<bool>(row[x])) --x;

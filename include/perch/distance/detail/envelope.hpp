@@ -36,10 +36,15 @@ inline void envelope_sq(const std::uint32_t* g, int m, std::int32_t* s, std::int
     const std::int64_t gu = g[u];
     return floor_div(u * u - i * i + gu * gu - gi * gi, 2 * (u - i));
   };
+  // A site higher than half the run never reaches the envelope: every point of the run lies
+  // within (m − 1)/2 of a background end site, nearer than g[u] ≤ f(x, u). So it is skipped
+  // (no division); across a thick limb most sites are such.
+  const auto never_lowest = static_cast<std::uint32_t>(m - 1);
   int q = 0;
   s[0] = 0;
   t[0] = 0;
   for (int u = 1; u < m; ++u) {
+    if (2 * std::uint64_t{g[u]} > never_lowest) continue;
     while (q >= 0 && f(t[q], s[q]) > f(t[q], u)) --q;
     if (q < 0) {
       q = 0;
