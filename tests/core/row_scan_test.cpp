@@ -23,7 +23,7 @@ int naive_last_set(const std::vector<std::uint8_t>& row, int from) {
 
 }  // namespace
 
-TEST_CASE("row scans: next_set, next_clear and last_set equal a pixel-by-pixel scan") {
+TEST_CASE("row scans: next_set, next_clear, last_set and binarise_row equal pixel-by-pixel loops") {
   // Long uniform stretches (the word steps) broken by single pixels of every kind of non-zero
   // byte (the word tests must find the exact byte, not just the word).
   std::mt19937 rng(7);
@@ -41,6 +41,14 @@ TEST_CASE("row scans: next_set, next_clear and last_set equal a pixel-by-pixel s
       for (int k = 0; k < run && x < w; ++k, ++x)
         row[static_cast<std::size_t>(x)] = ink ? inks[rng() % std::size(inks)] : 0;
     }
+    std::vector<std::uint8_t> ones(row.size() + 1, 9);
+    std::uint32_t expected = 0;
+    for (const std::uint8_t v : row) expected += v != 0 ? 1 : 0;
+    CHECK(perch::detail::binarise_row(row.data(), ones.data(), w) == expected);
+    bool binarised = ones.back() == 9;  // nothing written past the row
+    for (std::size_t i = 0; i < row.size(); ++i)
+      binarised = binarised && ones[i] == (row[i] != 0 ? 1 : 0);
+    CHECK(binarised);
     for (int from = 0; from <= w; ++from) {
       const std::uint8_t* p = row.data();
       CHECK(perch::detail::next_set(p, from, w) == naive_next(row, from, true));

@@ -10,6 +10,10 @@
 #include <cstring>
 #include <type_traits>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace perch::detail {
 
 /// Pointer to the first pixel of row `y` of an image view.
@@ -106,13 +110,28 @@ inline void for_each_set_byte(std::uint64_t word, F&& f) noexcept {
   }
 }
 
-/// Writes 1 to `dst[i]` for each non-zero `src[i]` and 0 for the others, i ∈ [0, width), eight
+/// Writes 1 to `dst[i]` for each non-zero `src[i]` and 0 for the others, i ∈ [0, width), 16 or 8
 /// one-byte pixels at a time; returns the number of non-zero pixels.
 template <class T>
 [[nodiscard]] inline std::uint32_t binarise_row(const T* src, std::uint8_t* dst,
                                                 int width) noexcept {
   std::uint32_t count = 0;
   int x = 0;
+#if defined(__SSE2__)
+  if constexpr (byte_pixels<T>) {  // sixteen pixels per step (SSE2: every x86-64)
+    const __m128i zero = _mm_setzero_si128();
+    const __m128i one = _mm_set1_epi8(1);
+    __m128i sums = zero;  // two 64-bit lanes of byte sums
+    for (; x + 16 <= width; x += 16) {
+      const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(src + x));
+      const __m128i ones = _mm_andnot_si128(_mm_cmpeq_epi8(v, zero), one);
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(dst + x), ones);
+      sums = _mm_add_epi64(sums, _mm_sad_epu8(ones, zero));
+    }
+    count += static_cast<std::uint32_t>(_mm_cvtsi128_si32(sums)) +
+             static_cast<std::uint32_t>(_mm_cvtsi128_si32(_mm_unpackhi_epi64(sums, sums)));
+  }
+#endif
   if constexpr (byte_pixels<T>) {
     for (; x + 8 <= width; x += 8) {
       std::uint64_t word = 0;

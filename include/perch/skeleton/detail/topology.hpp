@@ -190,7 +190,7 @@ struct padded_image {
     std::uint8_t* d = img.px + img.index(0, y);
     d[-1] = 0;
     d[img.width] = 0;
-    for (int x = 0; x < img.width; ++x) d[x] = m[x] != 0 ? 1 : 0;
+    (void)binarise_row(m, d, img.width);
   }
   return img;
 }
@@ -227,7 +227,7 @@ struct padded_image {
   for (int y = 0; y < img.height; ++y) {
     const std::uint8_t* m = mask.data() + static_cast<std::ptrdiff_t>(y) * mask.stride();
     std::uint8_t* d = img.px + static_cast<std::ptrdiff_t>(y) * img.stride;
-    for (int x = 0; x < img.width; ++x) d[x] = m[x] != 0 ? 1 : 0;
+    (void)binarise_row(m, d, img.width);
   }
   return img;
 }
