@@ -199,7 +199,7 @@ struct medial_axis {
           detail::prefetch(next + ahead);
           detail::prefetch(next + ahead + img.stride);
         }
-        const unsigned c = img.code(i);
+        const unsigned c = img.code_of_bits(i);  // the peel sets no flags
         if (!detail::deletable_table[c]) {
           next[i] = unqueued + current;
           continue;

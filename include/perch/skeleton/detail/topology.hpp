@@ -160,6 +160,13 @@ struct padded_image {
     return (p[-s] & 1u) | (p[-s + 1] & 1u) << 1 | (p[1] & 1u) << 2 | (p[s + 1] & 1u) << 3 |
            (p[s] & 1u) << 4 | (p[s - 1] & 1u) << 5 | (p[-1] & 1u) << 6 | (p[-s - 1] & 1u) << 7;
   }
+  /// `code(i)` when every byte of the working image is 0 or 1 (no flags set): no masking.
+  [[nodiscard]] unsigned code_of_bits(std::ptrdiff_t i) const noexcept {
+    const std::uint8_t* p = px + i;
+    const std::ptrdiff_t s = stride;
+    return static_cast<unsigned>(p[-s] | p[-s + 1] << 1 | p[1] << 2 | p[s + 1] << 3 | p[s] << 4 |
+                                 p[s - 1] << 5 | p[-1] << 6 | p[-s - 1] << 7);
+  }
   /// True when a 4-neighbour of `i` is background.
   [[nodiscard]] bool on_border(std::ptrdiff_t i) const noexcept {
     return ((px[i - stride] & px[i + stride] & px[i - 1] & px[i + 1]) & 1u) == 0;
