@@ -173,6 +173,36 @@ TEST_CASE("find_perch: deterministic, and a strided view gives the same answer")
   }
 }
 
+TEST_CASE("find_perch: listed runs and scanned rows give the kernels' distances and skeleton") {
+  // find_perch lists the tree's runs once for the distance transform and the skeleton; a
+  // speckled mask with more runs than it lists (a checkerboard half) makes both scan instead.
+  // Either way the result must be what the kernels give on the prepared mask.
+  image<std::uint8_t> speckled(160, 120);
+  capsule(speckled, {80, 160}, {80, 40}, 20);
+  for (int y = 0; y < 60; ++y)
+    for (int x = 0; x < 160; ++x) speckled(x, y) = (x + y) % 2 == 0 ? 1 : 0;
+  const auto limb = t_tree(15.0f, 35.0f);
+  const image<std::uint8_t>* masks[] = {&speckled, &limb};
+  for (const image<std::uint8_t>* mask : masks) {
+    perch::workspace ws;
+    const auto found = perch::find_perch(mask->view(), ws);
+    REQUIRE(found);
+    const auto tree = perch::image_view<const std::uint8_t>(found->mask.pixels);
+    const int w = tree.width(), h = tree.height();
+    perch::workspace own;
+    image<std::uint32_t> d2(w, h);
+    image<std::uint8_t> skeleton(w, h);
+    REQUIRE(perch::distance_transform_sq(tree, d2.view(), own));
+    REQUIRE(perch::medial_axis{}(tree, d2.view(), skeleton.view(), own));
+    bool same = true;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        same = same && found->skeleton(x, y) == skeleton(x, y) &&
+               (tree(x, y) == 0 || found->dist2(x, y) == d2(x, y));
+    CHECK(same);
+  }
+}
+
 TEST_CASE("find_perch: downscaling by 0.5 finds the same site within a few pixels") {
   const auto mask = t_tree(5.0f, 31.0f);
   perch::workspace ws;

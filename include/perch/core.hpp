@@ -11,4 +11,5 @@
 #include "perch/core/image_view.hpp"
 #include "perch/core/mask.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/row_runs.hpp"
 #include "perch/core/workspace.hpp"

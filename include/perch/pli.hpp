@@ -117,6 +117,13 @@ struct perch_result {
 
 namespace detail {
 
+/// How many runs of tree `find_perch` lists for a `width` × `height` box (`row_runs`): one per
+/// 16 pixels and one per row; a tree with more (speckle) is scanned instead of listed.
+[[nodiscard]] constexpr std::size_t max_runs(int width, int height) noexcept {
+  return static_cast<std::size_t>(width) * static_cast<std::size_t>(height) / 16 +
+         static_cast<std::size_t>(height);
+}
+
 /// Times stages with the caller's clock (a no-op without one).
 class stage_clock {
  public:
@@ -392,6 +399,7 @@ template <class OwnAt>
   const int h = scaled_extent(height, options.downscale) + 2;
   const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   std::size_t bytes = prepare_mask_workspace_bytes(width, height, options.downscale);
+  bytes += row_runs_workspace_bytes(h, detail::max_runs(w, h));
   bytes += workspace::footprint<std::uint32_t>(n) + workspace::footprint<std::uint8_t>(n);
   bytes += distance_workspace_bytes(w, h);
   bytes += skeleton_workspace_bytes(w, h);
@@ -455,6 +463,12 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   if (!scaled) return unexpected{scaled.error()};
   scale_context context{prepared->analysed_width, prepared->analysed_height, 0, {}, prepared->offset, {}};
   PERCH_TRY(scaled->validate(context));
+  // Its runs, found once for the distance transform and the skeleton (each would scan the box
+  // for them); a speckled mask with more runs than that bound is scanned by each instead.
+  auto found_runs = find_row_runs(image_view<const std::uint8_t>(local), ws, detail::max_runs(w, h));
+  if (!found_runs && found_runs.error().code != errc::capacity_exceeded)
+    return unexpected{found_runs.error()};
+  const row_runs runs = found_runs ? *found_runs : row_runs{};
   out.timing.prepare_ms = clock.lap();
   if (prepared->tree_pixels == 0) {
     out.timing.total_ms = clock.total();
@@ -465,15 +479,19 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   auto dist2 = ws.allocate<std::uint32_t>(n);
   if (!dist2) return unexpected{dist2.error()};
   const image_view<std::uint32_t> dist(dist2->data(), w, h);
-  PERCH_TRY(distance_transform_sq_foreground(image_view<const std::uint8_t>(local), dist, ws));
+  PERCH_TRY(distance_transform_sq_foreground(image_view<const std::uint8_t>(local), dist, ws, runs));
   out.dist2 = dist;
   out.timing.distance_ms = clock.lap();
 
   auto skeleton_pixels = ws.allocate<std::uint8_t>(n);  // the skeletoniser writes every pixel
   if (!skeleton_pixels) return unexpected{skeleton_pixels.error()};
   const image_view<std::uint8_t> skeleton(skeleton_pixels->data(), w, h);
-  PERCH_TRY(skeletoniser(image_view<const std::uint8_t>(local),
-                         image_view<const std::uint32_t>(dist), skeleton, ws));
+  const image_view<const std::uint8_t> tree_mask(local);
+  if constexpr (requires { skeletoniser(tree_mask, dist, skeleton, ws, detail::mask_runs{}); })
+    PERCH_TRY(skeletoniser(tree_mask, image_view<const std::uint32_t>(dist), skeleton, ws,
+                           detail::mask_runs{&runs}));
+  else
+    PERCH_TRY(skeletoniser(tree_mask, image_view<const std::uint32_t>(dist), skeleton, ws));
   out.skeleton = skeleton;
   out.timing.skeleton_ms = clock.lap();
 

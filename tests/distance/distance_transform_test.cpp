@@ -95,12 +95,24 @@ void check_against_brute_force(image_view<const std::uint8_t> m) {
   // The foreground-only variant: the same distances on the foreground, background untouched.
   image<std::uint32_t> d_fg(w, h, 7);
   REQUIRE(perch::distance_transform_sq_foreground(m, d_fg.view(), ws));
+  // The same with the mask's runs listed; the runs of another image (here an empty one of the
+  // same size) are not the mask's and must be ignored.
+  const auto runs = perch::find_row_runs(m, ws, static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  REQUIRE(runs);
+  image<std::uint32_t> d_runs(w, h, 7);
+  REQUIRE(perch::distance_transform_sq_foreground(m, d_runs.view(), ws, *runs));
+  const image<std::uint8_t> blank(w, h);
+  const auto other_runs = perch::find_row_runs(blank.view(), ws, 1);
+  REQUIRE(other_runs);
+  image<std::uint32_t> d_other(w, h, 7);
+  REQUIRE(perch::distance_transform_sq_foreground(m, d_other.view(), ws, *other_runs));
   bool same = true;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       same = same && d(x, y) == ref.dist2(x, y) && d_plain(x, y) == ref.dist2(x, y) &&
              nearest(x, y) == ref.nearest(x, y) &&
-             d_fg(x, y) == (m(x, y) != 0 ? ref.dist2(x, y) : 7u);
+             d_fg(x, y) == (m(x, y) != 0 ? ref.dist2(x, y) : 7u) && d_runs(x, y) == d_fg(x, y) &&
+             d_other(x, y) == d_fg(x, y);
   CHECK_MESSAGE(same, "mask:\n" << perch::support::to_ascii(m));
 }
 

@@ -304,6 +304,38 @@ TEST_CASE("skeletonisers: strided views give the same answer as dense ones") {
   }
 }
 
+TEST_CASE("skeletonisers: the mask's listed runs give the same skeleton as scanning") {
+  // find_perch hands the skeletoniser the runs it found (row_runs); the in-place path (a mask
+  // with a background frame), the padded copy and both thinnings must read them as the scan.
+  std::mt19937 rng(2611);
+  workspace ws;
+  for (int round = 0; round < 200; ++round) {
+    const int w = 3 + static_cast<int>(rng() % 40);
+    const int h = 3 + static_cast<int>(rng() % 40);
+    const bool framed = round % 2 == 0;
+    image<std::uint8_t> mask(w, h);
+    std::bernoulli_distribution ink(std::uniform_real_distribution<double>(0.3, 0.95)(rng));
+    for (int y = framed ? 1 : 0; y < (framed ? h - 1 : h); ++y)
+      for (int x = framed ? 1 : 0; x < (framed ? w - 1 : w); ++x) mask(x, y) = ink(rng);
+    const auto mv = image_view<const std::uint8_t>(mask.view());
+    ws.reset();
+    image<std::uint32_t> d2(w, h);
+    REQUIRE(perch::distance_transform_sq(mv, d2.view(), ws));
+    const auto runs = perch::find_row_runs(mv, ws, static_cast<std::size_t>(w * h));
+    REQUIRE(runs);
+    auto both = [&](const auto& method) {
+      image<std::uint8_t> scanned(w, h, 9), listed(w, h, 9);
+      REQUIRE(method(mv, d2.view(), scanned.view(), ws));
+      REQUIRE(method(mv, d2.view(), listed.view(), ws, perch::detail::mask_runs{&*runs}));
+      return same(scanned, listed);
+    };
+    CHECK(both(perch::medial_axis{}));
+    CHECK(both(perch::medial_axis{.thinness = thinness::faithful}));
+    CHECK(both(perch::zhang_suen{}));
+    CHECK(both(perch::guo_hall{}));
+  }
+}
+
 TEST_CASE("skeletonisers: bad input is a status; workspace is enough and reused") {
   image<std::uint8_t> m(6, 5, 1);
   image<std::uint32_t> d(6, 5);

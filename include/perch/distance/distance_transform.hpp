@@ -14,6 +14,7 @@
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/row_runs.hpp"
 #include "perch/core/row_scan.hpp"
 #include "perch/core/workspace.hpp"
 #include "perch/distance/detail/envelope.hpp"
@@ -50,10 +51,11 @@ enum class edt_output : std::uint8_t { squared, nearest, real };
 enum class edt_background : std::uint8_t { write, leave };
 
 /// The transform itself; `Out` is the output kind, `near` is used for `edt_output::nearest`.
+/// `runs`: the runs of `mask` (see `row_runs`), or nullptr to scan the rows for them.
 template <edt_output Out, edt_background Background, class Mask, class Dist, class Near>
 [[nodiscard]] status distance_transform_impl(const Mask& mask, const Dist& dist, const Near& near,
-                                             workspace& ws,
-                                             const distance_options& options) noexcept {
+                                             workspace& ws, const distance_options& options,
+                                             const row_runs* runs = nullptr) noexcept {
   using D = typename Dist::value_type;
   const int w = mask.width();
   const int h = mask.height();
@@ -94,15 +96,13 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
   for (int y = 0; y < h; ++y) {
     const M* m = row_pointer(mask, y);
     D* d = row_pointer(dist, y);
-    for (int a = detail::next_set(m, 0, w); a < w;) {
-      const int b = detail::next_clear(m, a, w);
+    detail::for_each_run_in_row(runs, y, m, w, [&](int a, int b) {
       for (int x = a; x < b; ++x) {
         const std::uint32_t up = above != nullptr && static_cast<bool>(above[x]) ? dn[x] + 1 : 1;
         dn[x] = up;
         d[x] = static_cast<D>(up);
       }
-      a = detail::next_set(m, b, w);
-    }
+    });
     above = m;
   }
 
@@ -116,18 +116,20 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
   for (int y = h - 1; y >= 0; --y) {
     const M* m = row_pointer(mask, y);
     D* d = row_pointer(dist, y);
-    int x = 0;
-    while (true) {
-      const int a = detail::next_set(m, x, w);
+    // Background [from, to) (before a run, or to the row's end): 0, its own nearest pixel.
+    auto background = [&](int from, int to) {
       if constexpr (Background == edt_background::write) {
-        for (int c = x; c < a; ++c) d[c] = D{0};
+        for (int c = from; c < to; ++c) d[c] = D{0};
         if constexpr (Out == edt_output::nearest) {
           pixel* p = row_pointer(near, y);
-          for (int c = x; c < a; ++c) p[c] = pixel{c, y};
+          for (int c = from; c < to; ++c) p[c] = pixel{c, y};
         }
       }
-      if (a == w) break;
-      const int b = detail::next_clear(m, a, w) - 1;
+    };
+    int x = 0;  // the first pixel after the last run
+    detail::for_each_run_in_row(runs, y, m, w, [&](int a, int end) {
+      background(x, a);
+      const int b = end - 1;
       for (int c = a; c <= b; ++c)
         dn[c] = below != nullptr && static_cast<bool>(below[c]) ? dn[c] + 1 : 1;
       const int sites = b - a + 3;  // a−1 … b+1
@@ -175,8 +177,9 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
           }
         }
       }
-      x = b + 1;
-    }
+      x = end;
+    });
+    background(x, w);
     below = m;
   }
   ws.rewind(entry);
@@ -236,15 +239,21 @@ template <BinaryView Mask, MutableImageView Dist>
 /// pixels keep whatever they held. For callers that read distances only on the shape (the
 /// skeleton, its graph, `find_perch`), this skips writing a whole image of zeros, most of a
 /// thin tree mask's bytes.
+/// With `runs` (`find_row_runs` of `mask`), both passes take the runs from the list instead of
+/// scanning the mask's rows for them, so the mask is read only next to its runs: the same
+/// distances without two scans of the background. Runs that do not `describe` `mask` are
+/// ignored; runs of a mask changed since they were found give wrong distances (never a read or
+/// write outside the views).
 /// Errors and complexity: as `distance_transform_sq`, with O(foreground) writes.
 template <BinaryView Mask, MutableImageView Dist>
   requires std::same_as<typename Dist::value_type, std::uint32_t>
 [[nodiscard]] status distance_transform_sq_foreground(const Mask& mask, const Dist& dist2,
-                                                      workspace& ws) noexcept {
+                                                      workspace& ws,
+                                                      const row_runs& runs = {}) noexcept {
   PERCH_TRY(detail::validate_distance_views(mask, dist2));
   using detail::edt_background, detail::edt_output;
   return detail::distance_transform_impl<edt_output::squared, edt_background::leave>(
-      mask, dist2, dist2, ws, distance_options{});
+      mask, dist2, dist2, ws, distance_options{}, runs.describes(mask) ? &runs : nullptr);
 }
 
 /// Squared Euclidean distance transform plus, for every pixel, its nearest background pixel.

@@ -11,6 +11,7 @@
 #include "perch/core/image_view.hpp"
 #include "perch/core/prefetch.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/row_runs.hpp"
 #include "perch/core/workspace.hpp"
 #include "perch/skeleton/detail/topology.hpp"
 #include "perch/skeleton/skeletoniser.hpp"
@@ -67,12 +68,14 @@ struct medial_axis {
            2 * workspace::footprint<std::uint32_t>(std::size_t{max_dist2(width, height)} + 1);
   }
 
+  /// (`listed`: internal, see `detail::mask_runs`.)
   [[nodiscard]] status operator()(image_view<const std::uint8_t> mask,
                                   image_view<const std::uint32_t> dist2,
-                                  image_view<std::uint8_t> skeleton, workspace& ws) const noexcept {
+                                  image_view<std::uint8_t> skeleton, workspace& ws,
+                                  detail::mask_runs listed = {}) const noexcept {
     PERCH_TRY(detail::validate_skeleton_views(mask, dist2, skeleton));
     const auto entry = ws.mark();
-    const status s = run(mask, dist2, skeleton, ws);
+    const status s = run(mask, dist2, skeleton, ws, detail::runs_of(listed, mask));
     ws.rewind(entry);
     return s;
   }
@@ -83,7 +86,8 @@ struct medial_axis {
 
   [[nodiscard]] status run(image_view<const std::uint8_t> mask,
                            image_view<const std::uint32_t> dist2,
-                           image_view<std::uint8_t> skeleton, workspace& ws) const noexcept {
+                           image_view<std::uint8_t> skeleton, workspace& ws,
+                           const row_runs* runs) const noexcept {
     // Fast path: a mask with a background frame (as `prepare_mask` makes) is thinned in the
     // output itself, and when `dist2` is laid out like the output its values are read by index.
     const bool in_place = detail::has_background_frame(mask) &&
@@ -96,6 +100,7 @@ struct medial_axis {
       if (!loaded) return unexpected{loaded.error()};
       img = *loaded;
     }
+    img.runs = runs;
     const std::uint32_t cap = max_dist2(img.width, img.height);
     const std::size_t cells = in_place ? static_cast<std::size_t>(img.stride) *
                                              static_cast<std::size_t>(img.height)

@@ -12,6 +12,7 @@
 #include "perch/core/image_view.hpp"
 #include "perch/core/prefetch.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/row_runs.hpp"
 #include "perch/core/workspace.hpp"
 #include "perch/skeleton/detail/topology.hpp"
 #include "perch/skeleton/skeletoniser.hpp"
@@ -77,11 +78,12 @@ inline status thin_two_subiterations(const neighbourhood_table* tables,
                                      image_view<const std::uint8_t> mask,
                                      image_view<const std::uint32_t> dist2,
                                      image_view<std::uint8_t> skeleton, workspace& ws,
-                                     thinness thin) noexcept {
+                                     thinness thin, mask_runs runs) noexcept {
   const auto entry = ws.mark();
   auto loaded = load_padded(mask, ws);
   if (!loaded) return unexpected{loaded.error()};
-  const padded_image img = *loaded;
+  padded_image img = *loaded;
+  img.runs = runs_of(runs, mask);
   const std::size_t n = padded_pixels(img.width, img.height) + 16;
   auto a_memory = ws.allocate<std::uint32_t>(n);
   auto b_memory = ws.allocate<std::uint32_t>(n);
@@ -175,12 +177,14 @@ struct zhang_suen {
     return detail::thinning_workspace_bytes(width, height);
   }
 
+  /// (`listed`: internal, see `detail::mask_runs`.)
   [[nodiscard]] status operator()(image_view<const std::uint8_t> mask,
                                   image_view<const std::uint32_t> dist2,
-                                  image_view<std::uint8_t> skeleton, workspace& ws) const noexcept {
+                                  image_view<std::uint8_t> skeleton, workspace& ws,
+                                  detail::mask_runs listed = {}) const noexcept {
     PERCH_TRY(detail::validate_skeleton_views(mask, dist2, skeleton));
     return detail::thin_two_subiterations(detail::zhang_suen_tables, mask, dist2, skeleton, ws,
-                                          thinness);
+                                          thinness, listed);
   }
 };
 
@@ -207,12 +211,14 @@ struct guo_hall {
     return detail::thinning_workspace_bytes(width, height);
   }
 
+  /// (`listed`: internal, see `detail::mask_runs`.)
   [[nodiscard]] status operator()(image_view<const std::uint8_t> mask,
                                   image_view<const std::uint32_t> dist2,
-                                  image_view<std::uint8_t> skeleton, workspace& ws) const noexcept {
+                                  image_view<std::uint8_t> skeleton, workspace& ws,
+                                  detail::mask_runs listed = {}) const noexcept {
     PERCH_TRY(detail::validate_skeleton_views(mask, dist2, skeleton));
     return detail::thin_two_subiterations(detail::guo_hall_tables, mask, dist2, skeleton, ws,
-                                          thinness);
+                                          thinness, listed);
   }
 };
 

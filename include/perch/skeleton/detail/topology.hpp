@@ -21,6 +21,7 @@
 #include "perch/core/image_view.hpp"
 #include "perch/core/prefetch.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/row_runs.hpp"
 #include "perch/core/row_scan.hpp"
 #include "perch/core/workspace.hpp"
 
@@ -143,6 +144,7 @@ struct padded_image {
   std::ptrdiff_t offset[8] = {};  ///< index offsets of code bits 0…7
   double inv_stride = 0;
   int pad = 1;  ///< 1 for the padded copy, 0 when working in the output
+  const row_runs* runs = nullptr;  ///< the runs of the mask it was loaded from, if known
 
   [[nodiscard]] std::ptrdiff_t index(int x, int y) const noexcept {
     return (static_cast<std::ptrdiff_t>(y) + pad) * stride + x + pad;
@@ -255,12 +257,8 @@ template <class Visit>
 inline void for_each_run(const padded_image& img, Visit&& visit) noexcept {
   for (int y = 0; y < img.height; ++y) {
     const std::ptrdiff_t row = img.index(0, y);
-    const std::uint8_t* p = img.px + row;
-    for (int a = next_set(p, 0, img.width); a < img.width;) {
-      const int b = next_clear(p, a, img.width);
-      visit(row + a, row + b);
-      a = next_set(p, b, img.width);
-    }
+    for_each_run_in_row(img.runs, y, img.px + row, img.width,
+                        [&](int a, int b) { visit(row + a, row + b); });
   }
 }
 

@@ -1,0 +1,154 @@
+/// \file
+/// `row_runs`: the runs of foreground of a binary image, row by row, found once and shared by the
+/// kernels that would otherwise each scan the whole image for them (the distance transform's two
+/// passes, the skeletonisers' first pass). On a thin tree most of a frame is background between
+/// a few runs per row, so a list of runs replaces several whole-image scans by one.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "perch/core/image_view.hpp"
+#include "perch/core/result.hpp"
+#include "perch/core/row_scan.hpp"
+#include "perch/core/workspace.hpp"
+
+namespace perch {
+
+/// The foreground pixels [begin, end) of one row.
+struct row_run {
+  std::int32_t begin = 0;
+  std::int32_t end = 0;
+};
+
+/// The foreground runs of every row of one binary image, in raster order.
+///
+/// Made by `find_row_runs`, which records the image it describes (data pointer, size, stride).
+/// Kernels that take one use it only when it `describes` the image they are given; for any other
+/// image (or a default-constructed `row_runs`) they scan the image themselves, with the same
+/// result. It borrows workspace memory: valid until that memory is rewound, and only while the
+/// image's foreground is unchanged.
+class row_runs {
+ public:
+  constexpr row_runs() noexcept = default;
+
+  /// Whether these are the runs of `view` (same pixels in memory, same size and stride).
+  template <ImageView V>
+  [[nodiscard]] bool describes(const V& view) const noexcept {
+    return first_ != nullptr && static_cast<const void*>(view.data()) == data_ &&
+           view.width() == width_ && view.height() == height_ && view.stride() == stride_;
+  }
+  /// The runs of row `y`, left to right. Precondition: 0 ≤ y < height of the image.
+  [[nodiscard]] std::span<const row_run> row(int y) const noexcept {
+    PERCH_ASSERT(first_ != nullptr && y >= 0 && y < height_, "row_runs::row: no such row");
+    const auto at = static_cast<std::size_t>(y);
+    return {runs_ + first_[at], runs_ + first_[at + 1]};
+  }
+  /// The number of runs in the image.
+  [[nodiscard]] std::size_t size() const noexcept {
+    return first_ == nullptr ? 0 : first_[static_cast<std::size_t>(height_)];
+  }
+
+ private:
+  template <BinaryView Mask>
+  friend result<row_runs> find_row_runs(const Mask& mask, workspace& ws,
+                                        std::size_t max_runs) noexcept;
+
+  const void* data_ = nullptr;
+  int width_ = 0;
+  int height_ = 0;
+  std::ptrdiff_t stride_ = 0;
+  const std::uint32_t* first_ = nullptr;  ///< height + 1 entries: row y is runs [first[y], first[y+1])
+  const row_run* runs_ = nullptr;
+};
+
+/// Bytes of workspace `find_row_runs` takes for a mask of `height` rows and `max_runs` runs.
+[[nodiscard]] constexpr std::size_t row_runs_workspace_bytes(int height,
+                                                             std::size_t max_runs) noexcept {
+  if (height <= 0) return 0;
+  return workspace::footprint<std::uint32_t>(static_cast<std::size_t>(height) + 1) +
+         workspace::footprint<row_run>(max_runs);
+}
+
+/// The foreground runs of `mask` (non-zero pixels), at most `max_runs` of them.
+///
+/// Errors: view errors of `mask`; `capacity_exceeded` (with `error::needed` = max_runs + 1) when
+/// the mask has more runs, `workspace_too_small` / `out_of_memory` from the workspace; on any
+/// error the workspace is as it was. Complexity: one read of the mask, eight background bytes
+/// per step; O(runs) writes.
+template <BinaryView Mask>
+[[nodiscard]] result<row_runs> find_row_runs(const Mask& mask, workspace& ws,
+                                             std::size_t max_runs) noexcept {
+  PERCH_TRY(validate(mask));
+  const int w = mask.width();
+  const int h = mask.height();
+  const auto entry = ws.mark();
+  auto first = ws.allocate<std::uint32_t>(static_cast<std::size_t>(h) + 1);
+  if (!first) return unexpected{first.error()};
+  auto runs = ws.allocate<row_run>(max_runs);
+  if (!runs) {
+    ws.rewind(entry);
+    return unexpected{runs.error()};
+  }
+  std::size_t count = 0;
+  for (int y = 0; y < h; ++y) {
+    (*first)[static_cast<std::size_t>(y)] = static_cast<std::uint32_t>(count);
+    const auto* m = detail::row_pointer(mask, y);
+    for (int a = detail::next_set(m, 0, w); a < w;) {
+      const int b = detail::next_clear(m, a, w);
+      if (count == max_runs) {
+        ws.rewind(entry);
+        return fail(errc::capacity_exceeded, "find_row_runs", max_runs + 1);
+      }
+      (*runs)[count++] = row_run{a, b};
+      a = detail::next_set(m, b, w);
+    }
+  }
+  (*first)[static_cast<std::size_t>(h)] = static_cast<std::uint32_t>(count);
+  row_runs out;
+  out.data_ = static_cast<const void*>(mask.data());
+  out.width_ = w;
+  out.height_ = h;
+  out.stride_ = mask.stride();
+  out.first_ = first->data();
+  out.runs_ = runs->data();
+  return out;
+}
+
+namespace detail {
+
+/// `find_perch` handing a skeletoniser the runs of its mask. Internal: the skeletonisers trust
+/// runs that describe the mask to list all of its foreground (stale runs, of a mask changed
+/// since, would leave pixels without a queue key), so only the pipeline, which finds them on
+/// its own copy of the mask, passes them.
+struct mask_runs {
+  const row_runs* runs = nullptr;
+};
+
+/// The runs of `listed` when they describe `mask`, else nullptr (scan).
+template <ImageView V>
+[[nodiscard]] const row_runs* runs_of(mask_runs listed, const V& mask) noexcept {
+  return listed.runs != nullptr && listed.runs->describes(mask) ? listed.runs : nullptr;
+}
+
+/// Calls `visit(a, b)` for each run [a, b) of foreground of row `y` of an image whose row starts
+/// at `row` and is `width` pixels wide: from `runs` when given (they must describe the image),
+/// else by scanning the row.
+template <class T, class Visit>
+inline void for_each_run_in_row(const row_runs* runs, int y, const T* row, int width,
+                                Visit&& visit) noexcept {
+  if (runs != nullptr) {
+    for (const row_run r : runs->row(y)) visit(static_cast<int>(r.begin), static_cast<int>(r.end));
+    return;
+  }
+  for (int a = next_set(row, 0, width); a < width;) {
+    const int b = next_clear(row, a, width);
+    visit(a, b);
+    a = next_set(row, b, width);
+  }
+}
+
+}  // namespace detail
+
+}  // namespace perch
