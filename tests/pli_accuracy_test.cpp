@@ -3,15 +3,17 @@
 // stretch (examples/support/support/synthetic_tree.hpp, `perch_truth`) in ≥ 95 % of the trees that
 // have one, and trees built without any feasible perch must give `no_perch`.
 //
-// STATUS: the pipeline reaches 91.6 % (issue 5 stays open), and picks a wrong site on 6 trees.
-// Of the 14 misses, 9 are "no perch though one exists": 3 whose claw diameter is within a pixel
-// of the claw's 30 mm minimum plus the constraint's half-pixel margin (43, 204, 234); 4 whose
-// only true stretch is about one window long, where the trimming at a junction is 1-6 px more
-// cautious than the truth (52, 68, 72, 138); 2 noisy trees where a side limb leaving at a
-// narrow angle joins the limb's skeleton far beyond its true base (51, 134). The wrong sites:
-// 3 "diameter" (noisy outlines read 2-7 mm wide near the 30 mm minimum), 1 "off_limb" (a fork
-// whose skeleton node sits beyond the true fork, so the window runs over it), 1 junction (within
-// 1.4 px of the tolerance), 1 on a tree without a true perch. The printed failures say which.
+// STATUS: the pipeline reaches 92.8 % (155 of 167; issue 5 stays open), and picks a wrong site
+// on 4 trees. Of the 12 misses, 9 are "no perch though one exists": 3 whose claw diameter is
+// within a pixel of the claw's 30 mm minimum plus the constraint's half-pixel margin (43, 204,
+// 234); 4 whose only true stretch is about one window long, where the trimming at a junction is
+// 1-6 px more cautious than the truth (52, 68, 72, 138); 2 noisy trees where a side limb leaving
+// at a narrow angle joins the limb's skeleton far beyond its true base (51, 134). The wrong
+// sites: 1 "diameter" (a noisy outline read ~1 px wide near the 30 mm minimum: 34; the
+// lower-tercile test of `diameter_range` fixed two more such trees, 41 and 64), 1 "off_limb" (a
+// fork whose skeleton node sits beyond the true fork, so the window runs over it), 1 junction
+// (within 1.4 px of the tolerance), 1 on a tree without a true perch. The printed failures say
+// which.
 // The checks below hold the measured levels as regression floors; the issue's 95 % target is
 // printed beside it, not asserted.
 #include "perch/pli.hpp"
@@ -202,8 +204,8 @@ TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known 
   CHECK(without_truth >= 20);
   CHECK(with_truth >= 100);
   MESSAGE("issue 5 target: 95 % where a perch exists; measured " << 100.0 * rate << " %");
-  CHECK(rate >= 0.915);          // regression floor at the measured level (91.6 %)
-  CHECK(incorrect <= 6);         // measured: 6 wrong sites, 1 on a tree without a truth perch
+  CHECK(rate >= 0.925);          // regression floor at the measured level (92.8 %)
+  CHECK(incorrect <= 4);         // measured: 4 wrong sites, 1 on a tree without a truth perch
   CHECK(wrong_when_none <= 1);
 }
 
@@ -269,8 +271,8 @@ TEST_CASE("find_perch: the accuracy cost of perch_options::downscale (issue 8)" 
   for (const float factor : {0.5f, 0.25f}) {
     const downscale_score score = score_downscaled(factor, 1);
     CHECK(score.errors == 0);
-    // Regression floors at the measured levels (76.0 % at 0.5, 61.1 % at 0.25).
-    CHECK(score.rate() >= (factor == 0.5f ? 0.755 : 0.605));
+    // Regression floors at the measured levels (79.0 % at 0.5, 61.7 % at 0.25).
+    CHECK(score.rate() >= (factor == 0.5f ? 0.785 : 0.61));
   }
 }
 
@@ -281,7 +283,7 @@ TEST_CASE("find_perch: downscale on camera-sized frames (issue 8)" * doctest::sk
   for (const float factor : {1.0f, 0.5f, 0.25f}) {
     const downscale_score score = score_downscaled(factor, 4);
     CHECK(score.errors == 0);
-    // Regression floors at the measured levels (89.1 %, 85.7 %, 85.1 %; a perch on none of
+    // Regression floors at the measured levels (89.1 %, 86.3 %, 86.9 %; a perch on none of
     // the 65 trees without one).
     CHECK(score.rate() >= (factor == 1.0f ? 0.885 : 0.845));
     CHECK(score.wrong_when_none == 0);

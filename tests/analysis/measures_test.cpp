@@ -151,11 +151,22 @@ TEST_CASE("windows: one drone width long, by stride, never past the branch end")
   CHECK(w.slope_deg == doctest::Approx(0.0f));
   CHECK(w.diameter_mean_mm == doctest::Approx(18.0f));
   CHECK(w.claw_diameter_mm == doctest::Approx(18.0f));
+  CHECK(w.diameter_low_mm == doctest::Approx(18.0f));
   CHECK(w.centre.x == 200 + 45 + 10);
   CHECK(w.centre.y == 200 + 20);
   CHECK(w.origin_distance_mm == doctest::Approx((300 - 45) * 2.0f));
   CHECK(w.origin_horizontal_mm == doctest::Approx((300 - 45) * 2.0f));
   CHECK(out->back().start_px == doctest::Approx(210.0f));
+
+  // Bumps on the outline of a third of the window's points lift its mean, not its lower tercile.
+  std::vector<float> bumpy(line.size(), 9.0f);
+  for (std::size_t i = 0; i < bumpy.size(); i += 3) bumpy[i] = 12.0f;
+  const perch::branch_geometry rough{line, radius, 3, 1, perch::origin_end::back, {10, 20}, 0,
+                                     bumpy};
+  out->clear();
+  REQUIRE(perch::measure_windows(rough, perch::fixed_scale{2.0f}, 2.0f, scratch, *out));
+  CHECK((*out)[0].diameter_mean_mm > 19.5f);
+  CHECK((*out)[0].diameter_low_mm == doctest::Approx(18.0f));
 
   // Too short for one window: none. Capacity: a status, never silent truncation.
   out->clear();

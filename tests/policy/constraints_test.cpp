@@ -49,6 +49,24 @@ TEST_CASE("constraints: the diameter margin is in pixels at the window's scale")
         errc::invalid_parameter);
 }
 
+TEST_CASE("constraints: the window's lower-tercile diameter guards the minimum on rough outlines") {
+  const perch::diameter_range d{30.0f, 110.0f};  // low margin: a quarter pixel
+  CHECK(d.low_margin_px == 0.25f);
+  perch::window_measures rough = window(0, 33.0f);  // the mean passes by 2.5 px ...
+  rough.diameter_low_mm = 29.0f;                     // ... but a third of the window reads < 29
+  CHECK(d(rough) == doctest::Approx(1.25f));
+  rough.diameter_low_mm = 30.25f;  // exactly min + a quarter pixel
+  CHECK(d(rough) == 0.0f);
+  rough.diameter_low_mm = 0.0f;  // not measured: the mean's test alone
+  CHECK(d(rough) == 0.0f);
+  perch::diameter_range plain{30.0f, 110.0f, 0.0f, -1.0f};  // off
+  rough.diameter_low_mm = 20.0f;
+  CHECK(plain(rough) == 0.0f);
+  CHECK(plain.validate());
+  CHECK(perch::diameter_range{30.0f, 110.0f, 0.5f, std::nanf("")}.validate().error().code ==
+        errc::invalid_parameter);
+}
+
 TEST_CASE("constraints: bending stress of paper eq. 4 (1.5 kg, r = 15 mm, L = 2 m -> 11.1 MPa)") {
   CHECK(perch::bending_stress_mpa(1.5f, 15.0f, 2000.0f) == doctest::Approx(11.1f).epsilon(0.005));
   perch::window_measures m = window(0, 30.0f);  // r = 15 mm

@@ -35,6 +35,10 @@ struct window_measures {
   float diameter_min_mm = 0;    ///< minimum of the branch's diameters over the window
   float diameter_max_mm = 0;    ///< maximum diameter over the window
   float diameter_mean_mm = 0;   ///< mean diameter over the window
+  /// Lower tercile of the diameters over the window (a third of them are below it): the limb's
+  /// width under outline noise that only adds to it (bumps, spurs, leaves, a twig's base), which
+  /// inflates the mean. 0: not measured.
+  float diameter_low_mm = 0;
   float claw_diameter_mm = 0;   ///< mean diameter over the central claw region
   float reversal_mm = 0;        ///< largest step back along the chord (0 for a monotonic window)
   float origin_distance_mm = 0;    ///< arc length from the branch's origin (toward the trunk)

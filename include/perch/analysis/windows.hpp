@@ -178,6 +178,13 @@ template <ScalePolicy Scale>
     w.claw_diameter_mm =
         (claw_count > 0 ? claw_sum / static_cast<float>(claw_count) : diameter_at(m)) *
         mm_per_px;
+    // The lower tercile, selected in `work` (free again once the local scale is measured).
+    const std::size_t low_count = std::min(b - a + 1, work.size());
+    for (std::size_t i = 0; i < low_count; ++i) work[i] = diameter_at(a + i);
+    const auto low_rank = static_cast<std::ptrdiff_t>((low_count - 1) / 3);
+    std::nth_element(work.begin(), work.begin() + low_rank,
+                     work.begin() + static_cast<std::ptrdiff_t>(low_count));
+    w.diameter_low_mm = work[static_cast<std::size_t>(low_rank)] * mm_per_px;
     w.reversal_mm = reversal_px(pts) * mm_per_px;
     const float along = from_front ? arc[m] : total_px - arc[m];
     w.origin_distance_mm = along * mm_per_px;
