@@ -9,6 +9,7 @@
 
 #include "allocation_counter.hpp"
 #include "perch/core/image.hpp"
+#include "perch/distance/detail/envelope.hpp"
 #include "support/ascii_art.hpp"
 
 using perch::errc;
@@ -183,6 +184,28 @@ TEST_CASE("distance_transform_sq: equals brute force on thousands of random mask
       ++compared;
     }
   CHECK(compared == 3000);
+}
+
+TEST_CASE("envelope intersections: floor division by a reciprocal is exact") {
+  // The envelope divides by 2k through a table of 1 / (2k); the quotient must be the exact floor
+  // for every sign and size of numerator, including integer quotients (where a rounded
+  // estimate lands on either side) and numerators past double precision.
+  std::mt19937_64 rng(52);
+  std::vector<double> inverse(1 << 17);
+  perch::detail::fill_inverse_twice(inverse.data(), inverse.size());
+  int checked = 0;
+  for (int round = 0; round < 200000; ++round) {
+    const auto k = static_cast<std::int64_t>(1 + rng() % (inverse.size() - 1));
+    const std::int64_t b = 2 * k;
+    const int bits = static_cast<int>(rng() % 62);
+    std::int64_t a = static_cast<std::int64_t>(rng() >> (63 - bits)) * (rng() % 2 == 0 ? 1 : -1);
+    if (round % 3 == 0) a = (a / b) * b + static_cast<std::int64_t>(rng() % 3) - 1;  // near multiples
+    std::int64_t floor = a / b;
+    if (floor * b > a) --floor;
+    REQUIRE(perch::detail::floor_div(a, b, inverse[static_cast<std::size_t>(k)]) == floor);
+    ++checked;
+  }
+  CHECK(checked == 200000);
 }
 
 TEST_CASE("distance_transform_sq: equals brute force on thick shapes (long runs, tall columns)") {

@@ -41,7 +41,8 @@ struct distance_options {
 /// given back before the call returns.
 [[nodiscard]] constexpr std::size_t distance_workspace_bytes(int width, int height) noexcept {
   if (width <= 0 || height <= 0) return 0;
-  return 6 * workspace::footprint<std::uint32_t>(static_cast<std::size_t>(width) + 2);
+  return 6 * workspace::footprint<std::uint32_t>(static_cast<std::size_t>(width) + 2) +
+         workspace::footprint<double>(static_cast<std::size_t>(width) + 2);
 }
 
 namespace detail {
@@ -69,7 +70,8 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
   auto t = ws.allocate<std::int32_t>(n);
   auto site = ws.allocate<std::int32_t>(n);
   auto near_row = ws.allocate<std::int32_t>(n);
-  if (!down || !g_int || !g_real || !s || !t || !site || !near_row) {
+  auto inverse_twice = ws.allocate<double>(n);
+  if (!down || !g_int || !g_real || !s || !t || !site || !near_row || !inverse_twice) {
     ws.rewind(entry);
     const bool short_of_room =
         (!down && down.error().code == errc::workspace_too_small) ||
@@ -78,12 +80,14 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
         (!s && s.error().code == errc::workspace_too_small) ||
         (!t && t.error().code == errc::workspace_too_small) ||
         (!site && site.error().code == errc::workspace_too_small) ||
-        (!near_row && near_row.error().code == errc::workspace_too_small);
+        (!near_row && near_row.error().code == errc::workspace_too_small) ||
+        (!inverse_twice && inverse_twice.error().code == errc::workspace_too_small);
     if (short_of_room)
       return fail(errc::workspace_too_small, "distance_transform",
                   used_at_entry + distance_workspace_bytes(w, h));
     return fail(errc::out_of_memory, "distance_transform");
   }
+  detail::fill_inverse_twice(inverse_twice->data(), n);
   std::uint32_t* dn = down->data();
   std::int32_t* nr = near_row->data();
 
@@ -165,7 +169,8 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
         if (Out == edt_output::squared && sites <= detail::short_run_sites) {
           detail::nearest_sites_short(g, sites, d + (a - 1));
         } else {
-          detail::envelope_sq(g, sites, s->data(), t->data(), site->data());
+          detail::envelope_sq(g, sites, s->data(), t->data(), site->data(),
+                              inverse_twice->data());
           for (int u = 1; u + 1 < sites; ++u) {
             const std::int32_t i = (*site)[static_cast<std::size_t>(u)];
             const auto dx = static_cast<std::uint32_t>(u > i ? u - i : i - u);

@@ -10,31 +10,44 @@
 
 namespace perch::detail {
 
-/// Floor division for a positive divisor (Meijster's `div` rounds down). The quotient is
-/// estimated in double precision (much faster than a 64-bit integer division), truncated (an
-/// inline conversion, where `std::floor` is a library call without SSE4.1) and corrected
-/// exactly with integer products.
-[[nodiscard]] inline std::int64_t floor_div(std::int64_t a, std::int64_t b) noexcept {
-  auto q = static_cast<std::int64_t>(static_cast<double>(a) / static_cast<double>(b));
+/// Floor division for a positive divisor `b` (Meijster's `div` rounds down), given `inverse`
+/// ≈ 1 / b. The quotient is estimated as a · inverse in double precision (a multiplication: no
+/// division on the envelope's dependency chain), truncated (an inline conversion, where
+/// `std::floor` is a library call without SSE4.1) and corrected exactly with integer products.
+/// The estimate is within one of the quotient for |a| < 2^52; beyond (runs tens of millions of
+/// pixels long) the quotient comes from an integer division.
+[[nodiscard]] inline std::int64_t floor_div(std::int64_t a, std::int64_t b, double inverse) noexcept {
+  constexpr std::int64_t exact_in_double = std::int64_t{1} << 52;
+  std::int64_t q = a < exact_in_double && a > -exact_in_double
+                       ? static_cast<std::int64_t>(static_cast<double>(a) * inverse)
+                       : a / b;
   if (q * b > a) --q;
   if ((q + 1) * b <= a) ++q;
   return q;
 }
 
+/// Fills `inverse_twice[k]` = 1 / (2k) for k in [1, n) (entry 0 unused): the divisors of
+/// `envelope_sq`'s intersections for runs of up to n sites.
+inline void fill_inverse_twice(double* inverse_twice, std::size_t n) noexcept {
+  if (n > 0) inverse_twice[0] = 0.0;
+  for (std::size_t k = 1; k < n; ++k) inverse_twice[k] = 1.0 / (2.0 * static_cast<double>(k));
+}
+
 /// Meijster et al. 2000, phase 2, for one run of `m` sites `g[0..m)` whose first and last site
 /// are background (g = 0): on return `site[u]` (u in [1, m-1)) is the site minimising
 /// (u − i)² + g[i]², and the function value is `best[u]`.
-/// `s` and `t` are scratch of m entries. Complexity O(m).
+/// `s` and `t` are scratch of m entries; `inverse_twice` has m entries (`fill_inverse_twice`).
+/// Complexity O(m).
 inline void envelope_sq(const std::uint32_t* g, int m, std::int32_t* s, std::int32_t* t,
-                        std::int32_t* site) noexcept {
+                        std::int32_t* site, const double* inverse_twice) noexcept {
   auto f = [g](std::int64_t x, std::int64_t i) noexcept {
     const std::int64_t gi = g[i];
     return (x - i) * (x - i) + gi * gi;
   };
-  auto sep = [g](std::int64_t i, std::int64_t u) noexcept {
+  auto sep = [g, inverse_twice](std::int64_t i, std::int64_t u) noexcept {
     const std::int64_t gi = g[i];
     const std::int64_t gu = g[u];
-    return floor_div(u * u - i * i + gu * gu - gi * gi, 2 * (u - i));
+    return floor_div(u * u - i * i + gu * gu - gi * gi, 2 * (u - i), inverse_twice[u - i]);
   };
   // A site higher than half the run never reaches the envelope: every point of the run lies
   // within (m − 1)/2 of a background end site, nearer than g[u] ≤ f(x, u). So it is skipped
