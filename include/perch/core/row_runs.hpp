@@ -16,10 +16,11 @@
 
 namespace perch {
 
-/// The foreground pixels [begin, end) of one row.
+/// The foreground pixels [begin, end) of one row. (No default member values: the workspace
+/// would then zero every slot of a run list on each call.)
 struct row_run {
-  std::int32_t begin = 0;
-  std::int32_t end = 0;
+  std::int32_t begin;
+  std::int32_t end;
 };
 
 /// The foreground runs of every row of one binary image, in raster order.
