@@ -87,7 +87,7 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
                   used_at_entry + distance_workspace_bytes(w, h));
     return fail(errc::out_of_memory, "distance_transform");
   }
-  detail::fill_inverse_twice(inverse_twice->data(), n);
+  std::size_t inverses_ready = 0;  // filled as far as the longest enveloped run so far needs
   std::uint32_t* dn = down->data();
   std::int32_t* nr = near_row->data();
 
@@ -169,6 +169,11 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
         if (Out == edt_output::squared && sites <= detail::short_run_sites) {
           detail::nearest_sites_short(g, sites, d + (a - 1));
         } else {
+          const auto needed = static_cast<std::size_t>(sites);
+          if (needed > inverses_ready) {
+            detail::fill_inverse_twice(inverse_twice->data(), inverses_ready, needed);
+            inverses_ready = needed;
+          }
           detail::envelope_sq(g, sites, s->data(), t->data(), site->data(),
                               inverse_twice->data());
           for (int u = 1; u + 1 < sites; ++u) {

@@ -26,11 +26,11 @@ namespace perch::detail {
   return q;
 }
 
-/// Fills `inverse_twice[k]` = 1 / (2k) for k in [1, n) (entry 0 unused): the divisors of
-/// `envelope_sq`'s intersections for runs of up to n sites.
-inline void fill_inverse_twice(double* inverse_twice, std::size_t n) noexcept {
-  if (n > 0) inverse_twice[0] = 0.0;
-  for (std::size_t k = 1; k < n; ++k) inverse_twice[k] = 1.0 / (2.0 * static_cast<double>(k));
+/// Fills `inverse_twice[k]` = 1 / (2k) for k in [from, to) (entry 0, never read, is 0): the
+/// divisors of `envelope_sq`'s intersections, for runs of up to `to` sites.
+inline void fill_inverse_twice(double* inverse_twice, std::size_t from, std::size_t to) noexcept {
+  for (std::size_t k = from; k < to; ++k)
+    inverse_twice[k] = k == 0 ? 0.0 : 1.0 / (2.0 * static_cast<double>(k));
 }
 
 /// Meijster et al. 2000, phase 2, for one run of `m` sites `g[0..m)` whose first and last site
