@@ -2,6 +2,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
@@ -223,6 +224,27 @@ TEST_CASE("distance_transform_sq: equals brute force on thick shapes (long runs,
       ++compared;
     }
   CHECK(compared == 40);
+}
+
+TEST_CASE("distance_transform_sq: columns 2^16 pixels deep (a height whose square wraps)") {
+  // A strip three pixels wide down a 5 × 140 000 image: rows take the short-run search, whose
+  // column heights reach 65 536 (and 74 464 from below), where a 32-bit square is 0. Every
+  // strip pixel is 1 from the side background (4 in the middle column) or nearer the ends.
+  const int w = 5, h = 140000;
+  image<std::uint8_t> m(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 1; x <= 3; ++x) m.view()(x, y) = 1;
+  image<std::uint32_t> d(w, h);
+  workspace ws;
+  REQUIRE(perch::distance_transform_sq(image_view<const std::uint8_t>(m.view()), d.view(), ws));
+  int wrong = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 1; x <= 3; ++x) {
+      const std::int64_t vertical = std::min(y + 1, h - y);
+      const std::int64_t side = std::min(x, w - 1 - x);
+      wrong += d.view()(x, y) == std::min(vertical * vertical, side * side) ? 0 : 1;
+    }
+  CHECK(wrong == 0);
 }
 
 TEST_CASE("distance_transform: anisotropic real distances equal brute force") {

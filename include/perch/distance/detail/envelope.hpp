@@ -85,7 +85,12 @@ inline constexpr int short_run_sites = 32;
 /// background), written to `out[u]` for u in [1, m − 1): a search outward from u, which stops
 /// once the offset alone costs as much as the best so far (the background sites 0 and m − 1
 /// bound it from the start). No division; for short runs cheaper than building the envelope.
-inline void nearest_sites_short(const std::uint32_t* g, int m, std::uint32_t* out) noexcept {
+/// `m` ≤ `short_run_sites`.
+inline void nearest_sites_short(std::uint32_t* g, int m, std::uint32_t* out) noexcept {
+  // Heights are capped at 2^16 − 1 before squaring (a column 2^16 pixels deep would wrap to
+  // 0): a run has at most 32 sites, so no capped site can be nearest (best ≤ 16²).
+  constexpr std::uint32_t high = 0xFFFFu;
+  for (int u = 1; u + 1 < m; ++u) g[u] = g[u] < high ? g[u] : high;
   for (int u = 1; u + 1 < m; ++u) {
     const auto left = static_cast<std::uint32_t>(u);
     const auto right = static_cast<std::uint32_t>(m - 1 - u);
