@@ -6,12 +6,14 @@
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <string_view>
 
 #include "perch/core/image_view.hpp"
 #include "perch/core/prefetch.hpp"
 #include "perch/core/result.hpp"
 #include "perch/core/row_runs.hpp"
+#include "perch/core/row_scan.hpp"
 #include "perch/core/workspace.hpp"
 #include "perch/skeleton/detail/topology.hpp"
 #include "perch/skeleton/skeletoniser.hpp"
@@ -94,7 +96,7 @@ struct medial_axis {
                           skeleton.stride() <= static_cast<std::ptrdiff_t>(mask.width()) + 2;
     detail::padded_image img;
     if (in_place) {
-      img = detail::load_in_place(mask, skeleton);
+      img = detail::load_in_place(mask, skeleton, runs);
     } else {
       auto loaded = detail::load_padded(mask, ws);
       if (!loaded) return unexpected{loaded.error()};
@@ -182,8 +184,24 @@ struct medial_axis {
         next[i] = unqueued + key;
       }
       while (top_key < run_top) q.head[++top_key] = empty;
-      for (std::ptrdiff_t i = first; i < end; ++i)
-        if (img.on_border(i)) q.push(static_cast<std::uint32_t>(i), next[i] - unqueued);
+      // The border pixels in raster order: the run's two ends, and between them the pixels
+      // below or above background, found eight at a time.
+      auto push = [&](std::ptrdiff_t i) {
+        q.push(static_cast<std::uint32_t>(i), next[i] - unqueued);
+      };
+      push(first);
+      const std::ptrdiff_t last = end - 1;
+      std::ptrdiff_t i = first + 1;
+      for (; i + 8 <= last; i += 8) {
+        std::uint64_t up = 0, down = 0;
+        std::memcpy(&up, px + i - img.stride, 8);
+        std::memcpy(&down, px + i + img.stride, 8);
+        detail::for_each_set_byte(~(up & down) & 0x0101010101010101ull,
+                                  [&](int k) { push(i + k); });
+      }
+      for (; i < last; ++i)
+        if ((px[i - img.stride] & px[i + img.stride]) == 0) push(i);
+      if (last > first) push(last);
     });
 
     std::ptrdiff_t offset[8];

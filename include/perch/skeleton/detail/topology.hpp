@@ -221,10 +221,12 @@ struct padded_image {
   return true;
 }
 
-/// The working image in `out` itself (`pad` = 0), `mask` (non-zero = 1) copied into it.
+/// The working image in `out` itself (`pad` = 0), `mask` (non-zero = 1) copied into it (from
+/// `runs` when given: they must describe `mask`).
 /// Precondition: `has_background_frame(mask)`, `out` of the same size.
 [[nodiscard]] inline padded_image load_in_place(image_view<const std::uint8_t> mask,
-                                                image_view<std::uint8_t> out) noexcept {
+                                                image_view<std::uint8_t> out,
+                                                const row_runs* runs = nullptr) noexcept {
   padded_image img;
   img.width = mask.width();
   img.height = mask.height();
@@ -236,7 +238,13 @@ struct padded_image {
   for (int y = 0; y < img.height; ++y) {
     const std::uint8_t* m = mask.data() + static_cast<std::ptrdiff_t>(y) * mask.stride();
     std::uint8_t* d = img.px + static_cast<std::ptrdiff_t>(y) * img.stride;
-    (void)binarise_row(m, d, img.width);
+    if (runs == nullptr) {
+      (void)binarise_row(m, d, img.width);
+      continue;
+    }
+    std::memset(d, 0, static_cast<std::size_t>(img.width));
+    for (const row_run r : runs->row(y))
+      std::memset(d + r.begin, 1, static_cast<std::size_t>(r.end - r.begin));
   }
   return img;
 }
@@ -330,96 +338,110 @@ inline std::size_t remove_blocks(const padded_image& img, image_view<const std::
     queue[rerouted++] = static_cast<std::uint32_t>(i);
   };
   std::size_t left = 0;
-  bool changed = true;
-  while (changed) {
+  bool changed = false;
+  // Removes the block whose top-left pixel is i, or counts it as left.
+  auto unblock = [&](std::ptrdiff_t i) {
+    std::ptrdiff_t block[4] = {i, i + 1, i + s, i + s + 1};
+    // Order by dist2, then raster (insertion sort of four).
+    std::uint32_t key[4] = {d2(block[0]), d2(block[1]), d2(block[2]), d2(block[3])};
+    for (int k = 1; k < 4; ++k)
+      for (int j = k; j > 0 && key[j] < key[j - 1]; --j) {
+        std::swap(key[j], key[j - 1]);
+        std::swap(block[j], block[j - 1]);
+      }
+    bool done = false;
+    for (const std::ptrdiff_t p : block) {
+      const unsigned c = img.code(p);
+      if (deletable_table[c]) {
+        img.px[p] = 0;
+        for (int j = 0; j < 8; ++j) seed(p + img.offset[j]);
+        done = true;
+        break;
+      }
+    }
+    for (int k = 0; k < 4 && !done; ++k) {
+      const std::ptrdiff_t p = block[k];
+      // The 8-neighbours of p outside the block: its two 4-neighbours first.
+      const int sx = (p == i || p == i + s) ? -1 : 1;
+      const int sy = (p == i || p == i + 1) ? -1 : 1;
+      const std::ptrdiff_t outside[5] = {p + sy * s, p + sx, p + sy * s + sx, p + sy * s - sx,
+                                         p + sx - sy * s};
+      for (const std::ptrdiff_t q : outside) {
+        if ((img.px[q] & 1u) != 0 || !in_mask(q)) continue;
+        img.px[q] = 1;
+        const unsigned cp = img.code(p);
+        if (simple_table[img.code(q)] && !makes_block(q) && deletable_table[cp]) {
+          img.px[p] = 0;
+          seed(q);
+          for (int j = 0; j < 8; ++j) {
+            seed(q + img.offset[j]);
+            seed(p + img.offset[j]);
+          }
+          done = true;
+          break;
+        }
+        img.px[q] = 0;
+      }
+    }
+    if (done) {
+      changed = true;
+      if (rerouted > 0) {
+        sweep_redundant(img, queue, rerouted);
+        rerouted = 0;
+      }
+    } else {
+      ++left;
+    }
+  };
+  // Visits the block corners x in [from, to − 1) of the row starting at index `row` (reads
+  // bytes from … to − 1 of it and of the row below), skipping 64, then 8 positions at a time
+  // where no block starts.
+  auto scan = [&](std::ptrdiff_t row, int from, int to) {
+    const std::uint8_t* r0 = img.px + row;
+    const std::uint8_t* r1 = r0 + s;
+    // Non-zero iff a block starts in [x0, x0 + 8·words) (reads x0 … x0 + 8·words of both rows).
+    auto block_bits = [&](int x0, int words) {
+      std::uint64_t any = 0;
+      for (int k = 0; k < words; ++k) {
+        std::uint64_t a = 0, b = 0, c = 0, d = 0;
+        std::memcpy(&a, r0 + x0 + 8 * k, 8);
+        std::memcpy(&b, r0 + x0 + 8 * k + 1, 8);
+        std::memcpy(&c, r1 + x0 + 8 * k, 8);
+        std::memcpy(&d, r1 + x0 + 8 * k + 1, 8);
+        any |= a & b & c & d;
+      }
+      return any & 0x0101010101010101ull;
+    };
+    int x = from;
+    while (x + 1 < to) {
+      if (x + 65 <= to && block_bits(x, 8) == 0) {
+        x += 64;
+        continue;
+      }
+      if (x + 9 <= to && block_bits(x, 1) == 0) {
+        x += 8;
+        continue;
+      }
+      const std::ptrdiff_t i = row + x;
+      ++x;
+      if (is_block(i)) unblock(i);
+    }
+  };
+  // A block's top row has two skeleton pixels side by side, so it lies inside a run of the mask
+  // (the skeleton stays inside the mask): only the runs are scanned when they are listed.
+  do {
     changed = false;
     left = 0;
     for (int y = 0; y + 1 < img.height; ++y) {
       const std::ptrdiff_t row = img.index(0, y);
-      const std::uint8_t* r0 = img.px + row;
-      const std::uint8_t* r1 = r0 + s;
-      // Non-zero iff a block starts in [x0, x0 + 8·words) (reads x0 … x0 + 8·words of both
-      // rows); the scan skips 64, then 8 positions at a time where none does.
-      auto block_bits = [&](int x0, int words) {
-        std::uint64_t any = 0;
-        for (int k = 0; k < words; ++k) {
-          std::uint64_t a = 0, b = 0, c = 0, d = 0;
-          std::memcpy(&a, r0 + x0 + 8 * k, 8);
-          std::memcpy(&b, r0 + x0 + 8 * k + 1, 8);
-          std::memcpy(&c, r1 + x0 + 8 * k, 8);
-          std::memcpy(&d, r1 + x0 + 8 * k + 1, 8);
-          any |= a & b & c & d;
-        }
-        return any & 0x0101010101010101ull;
-      };
-      int x = 0;
-      while (x + 1 < img.width) {
-        if (x + 65 <= img.width && block_bits(x, 8) == 0) {
-          x += 64;
-          continue;
-        }
-        if (x + 9 <= img.width && block_bits(x, 1) == 0) {
-          x += 8;
-          continue;
-        }
-        const std::ptrdiff_t i = row + x;
-        ++x;
-        if (!is_block(i)) continue;
-        std::ptrdiff_t block[4] = {i, i + 1, i + s, i + s + 1};
-        // Order by dist2, then raster (insertion sort of four).
-        std::uint32_t key[4] = {d2(block[0]), d2(block[1]), d2(block[2]), d2(block[3])};
-        for (int k = 1; k < 4; ++k)
-          for (int j = k; j > 0 && key[j] < key[j - 1]; --j) {
-            std::swap(key[j], key[j - 1]);
-            std::swap(block[j], block[j - 1]);
-          }
-        bool done = false;
-        for (const std::ptrdiff_t p : block) {
-          const unsigned c = img.code(p);
-          if (deletable_table[c]) {
-            img.px[p] = 0;
-            for (int j = 0; j < 8; ++j)
-              seed(p + img.offset[j]);
-            done = true;
-            break;
-          }
-        }
-        for (int k = 0; k < 4 && !done; ++k) {
-          const std::ptrdiff_t p = block[k];
-          // The 8-neighbours of p outside the block: its two 4-neighbours first.
-          const int sx = (p == i || p == i + s) ? -1 : 1;
-          const int sy = (p == i || p == i + 1) ? -1 : 1;
-          const std::ptrdiff_t outside[5] = {p + sy * s, p + sx, p + sy * s + sx, p + sy * s - sx,
-                                             p + sx - sy * s};
-          for (const std::ptrdiff_t q : outside) {
-            if ((img.px[q] & 1u) != 0 || !in_mask(q)) continue;
-            img.px[q] = 1;
-            const unsigned cp = img.code(p);
-            if (simple_table[img.code(q)] && !makes_block(q) && deletable_table[cp]) {
-              img.px[p] = 0;
-              seed(q);
-              for (int j = 0; j < 8; ++j) {
-                seed(q + img.offset[j]);
-                seed(p + img.offset[j]);
-              }
-              done = true;
-              break;
-            }
-            img.px[q] = 0;
-          }
-        }
-        if (done) {
-          changed = true;
-          if (rerouted > 0) {
-            sweep_redundant(img, queue, rerouted);
-            rerouted = 0;
-          }
-        } else {
-          ++left;
-        }
+      if (img.runs != nullptr) {
+        for (const row_run r : img.runs->row(y))
+          scan(row, static_cast<int>(r.begin), static_cast<int>(r.end));
+      } else {
+        scan(row, 0, img.width);
       }
     }
-  }
+  } while (changed);
   return left;
 }
 
