@@ -487,9 +487,13 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   if (!skeleton_pixels) return unexpected{skeleton_pixels.error()};
   const image_view<std::uint8_t> skeleton(skeleton_pixels->data(), w, h);
   const image_view<const std::uint8_t> tree_mask(local);
-  if constexpr (requires { skeletoniser(tree_mask, dist, skeleton, ws, detail::mask_runs{}); })
-    PERCH_TRY(skeletoniser(tree_mask, image_view<const std::uint32_t>(dist), skeleton, ws,
-                           detail::mask_runs{&runs}));
+  // A built-in skeletoniser takes the runs, and its skeleton lies inside the mask, so the graph
+  // looks for skeleton pixels only inside the runs too.
+  constexpr bool built_in =
+      requires { skeletoniser(tree_mask, dist, skeleton, ws, detail::mask_runs{}); };
+  const detail::mask_runs listed{built_in && runs.size() > 0 ? &runs : nullptr};
+  if constexpr (built_in)
+    PERCH_TRY(skeletoniser(tree_mask, image_view<const std::uint32_t>(dist), skeleton, ws, listed));
   else
     PERCH_TRY(skeletoniser(tree_mask, image_view<const std::uint32_t>(dist), skeleton, ws));
   out.skeleton = skeleton;
@@ -497,7 +501,7 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
 
   // 3. The skeleton graph.
   auto built = build_skeleton_graph(image_view<const std::uint8_t>(skeleton),
-                                    image_view<const std::uint32_t>(dist), ws);
+                                    image_view<const std::uint32_t>(dist), ws, {}, listed);
   if (!built) return unexpected{built.error()};
   out.graph = std::move(*built);
   skeleton_graph& graph = out.graph;

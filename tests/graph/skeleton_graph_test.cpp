@@ -11,6 +11,7 @@
 
 #include "allocation_counter.hpp"
 #include "perch/core/image.hpp"
+#include "perch/core/row_runs.hpp"
 #include "perch/graph/pixel_kinds.hpp"
 #include "support/ascii_art.hpp"
 
@@ -532,4 +533,75 @@ TEST_CASE("skeleton graph: invariants on seeded random skeletons") {
     check_invariants(*g, skeleton);
     CHECK(g->component_count() == count_components(skeleton));
   }
+}
+
+TEST_CASE("skeleton graph: scanning only the runs of a mask that contains the skeleton") {
+  // find_perch hands the graph the runs of the mask a built-in skeletoniser thinned (the
+  // skeleton lies inside it): scanning only them must give the same graph as scanning the view;
+  // runs of an image of another size are ignored.
+  std::mt19937 rng(20261126);
+  auto fingerprint = [](const skeleton_graph& g) {
+    std::vector<std::int64_t> out;
+    g.for_each_node([&](const perch::skeleton_node& n) {
+      out.insert(out.end(), {n.position.x, n.position.y, static_cast<std::int64_t>(n.kind),
+                             n.degree, n.component, static_cast<std::int64_t>(n.pixel_count)});
+    });
+    g.for_each_branch([&](const perch::skeleton_branch& b) {
+      out.insert(out.end(), {b.from, b.to, static_cast<std::int64_t>(b.type),
+                             std::llround(1000.0 * static_cast<double>(b.length_px))});
+      for (const perch::pixel p : b.points) out.insert(out.end(), {p.x, p.y});
+    });
+    return out;
+  };
+  int with_pixels = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const int w = 8 + static_cast<int>(rng() % 60);
+    const int h = 8 + static_cast<int>(rng() % 40);
+    perch::image<std::uint8_t> skeleton(w, h, 0), mask(w, h, 0);
+    for (int k = 0; k < 1 + static_cast<int>(rng() % 5); ++k) {
+      int x = static_cast<int>(rng() % static_cast<unsigned>(w));
+      int y = static_cast<int>(rng() % static_cast<unsigned>(h));
+      int dir = static_cast<int>(rng() % 8);
+      for (int s = 0; s < 5 + static_cast<int>(rng() % 50); ++s) {
+        skeleton(x, y) = 1;
+        if (rng() % 4 == 0) dir = (dir + (rng() % 2 == 0 ? 1 : 7)) % 8;
+        x = std::clamp(x + perch::neighbours8[dir].x, 0, w - 1);
+        y = std::clamp(y + perch::neighbours8[dir].y, 0, h - 1);
+      }
+    }
+    // The mask: the skeleton, some of its neighbours, and unrelated specks.
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (skeleton(x, y) != 0) {
+          mask(x, y) = 1;
+          if (x + 1 < w && rng() % 2 == 0) mask(x + 1, y) = 1;
+          if (x > 0 && rng() % 3 == 0) mask(x - 1, y) = 1;
+        } else if (rng() % 20 == 0) {
+          mask(x, y) = 1;
+        }
+      }
+    perch::image<std::uint32_t> dist2(w, h, 0);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) dist2(x, y) = static_cast<std::uint32_t>(1 + rng() % 50);
+    perch::workspace ws;
+    auto runs = perch::find_row_runs(cview(mask), ws, static_cast<std::size_t>(w * h));
+    REQUIRE(runs);
+    auto scanned = perch::build_skeleton_graph(cview(skeleton), cview(dist2), ws);
+    auto listed = perch::build_skeleton_graph(cview(skeleton), cview(dist2), ws, {},
+                                              perch::detail::mask_runs{&*runs});
+    REQUIRE(scanned);
+    REQUIRE(listed);
+    CHECK(listed->skeleton_pixels() == scanned->skeleton_pixels());
+    CHECK(fingerprint(*listed) == fingerprint(*scanned));
+    with_pixels += scanned->skeleton_pixels() > 0 ? 1 : 0;
+    // Runs of a smaller image do not span the skeleton: scanned as without runs.
+    perch::image<std::uint8_t> other(w - 1, h, 1);
+    auto other_runs = perch::find_row_runs(cview(other), ws, static_cast<std::size_t>(w * h));
+    REQUIRE(other_runs);
+    auto ignored = perch::build_skeleton_graph(cview(skeleton), cview(dist2), ws, {},
+                                               perch::detail::mask_runs{&*other_runs});
+    REQUIRE(ignored);
+    CHECK(fingerprint(*ignored) == fingerprint(*scanned));
+  }
+  CHECK(with_pixels == 200);
 }

@@ -40,6 +40,12 @@ class row_runs {
     return first_ != nullptr && static_cast<const void*>(view.data()) == data_ &&
            view.width() == width_ && view.height() == height_ && view.stride() == stride_;
   }
+  /// Whether these are runs of an image of `view`'s size (so their rows and columns index
+  /// `view`'s).
+  template <ImageView V>
+  [[nodiscard]] bool spans(const V& view) const noexcept {
+    return first_ != nullptr && view.width() == width_ && view.height() == height_;
+  }
   /// The runs of row `y`, left to right. Precondition: 0 ≤ y < height of the image.
   [[nodiscard]] std::span<const row_run> row(int y) const noexcept {
     PERCH_ASSERT(first_ != nullptr && y >= 0 && y < height_, "row_runs::row: no such row");

@@ -293,11 +293,23 @@ struct skeleton_graph_access {
   return i;
 }
 
+/// Calls `f(x, y)` for every skeleton pixel in raster order: inside `runs` when given (they
+/// contain the skeleton), else over the whole view.
+template <BinaryView Skeleton, class F>
+void for_each_skeleton_pixel(const Skeleton& skeleton, const row_runs* runs, F&& f) noexcept {
+  if (runs != nullptr) {
+    for_each_set_pixel_in(skeleton, *runs, f);
+  } else {
+    for_each_set_pixel(skeleton, f);
+  }
+}
+
 /// Everything of `build_skeleton_graph` after the graph's storage is allocated; `scratch`
 /// memory is drawn from `ws` and released by the caller.
 template <BinaryView Skeleton>
 [[nodiscard]] status trace_skeleton(const Skeleton& skeleton, image_view<const std::uint32_t> dist2,
-                                    skeleton_graph& out, workspace& ws) noexcept {
+                                    const row_runs* runs, skeleton_graph& out,
+                                    workspace& ws) noexcept {
   using access = skeleton_graph_access;
   auto& g = access::topology(out);
   const std::size_t n = access::skeleton_pixels(out);
@@ -339,7 +351,7 @@ template <BinaryView Skeleton>
   //    order the pixels from (x − 1, y − 1) and from (x − 1, y + 1) on start: a neighbour's index
   //    then follows from the neighbourhood (see `neighbour`), with no image-sized index map.
   std::size_t k = 0;
-  for_each_set_pixel(skeleton, [&](int x, int y) { pos[k++] = pixel{x, y}; });
+  for_each_skeleton_pixel(skeleton, runs, [&](int x, int y) { pos[k++] = pixel{x, y}; });
   PERCH_ASSERT(k == n, "build_skeleton_graph: pixel count changed");
   auto before = [&](std::size_t j, int x, int y) {  // pos[j] before (x, y) in raster order
     return pos[j].y < y || (pos[j].y == y && pos[j].x < x);
@@ -653,16 +665,21 @@ template <BinaryView Skeleton>
 /// grown. Complexity: O(width × height / 32 + skeleton pixels).
 /// Implements §"Section into Branches" and §"Create Graph" of the paper, with junction clusters
 /// as single nodes and branches traced once (the paper's prototype doubled every length).
+/// (`within`: internal, see `detail::mask_runs`: the runs of the mask a built-in skeletoniser
+/// thinned, which contain the skeleton, so only they are scanned for its pixels.)
 template <BinaryView Skeleton>
 [[nodiscard]] result<skeleton_graph> build_skeleton_graph(const Skeleton& skeleton,
                                                           image_view<const std::uint32_t> dist2,
                                                           workspace& ws,
-                                                          const graph_options& options = {}) noexcept {
+                                                          const graph_options& options = {},
+                                                          detail::mask_runs within = {}) noexcept {
   PERCH_TRY(validate_non_empty(skeleton));
   PERCH_TRY(validate_non_empty(dist2));
   PERCH_TRY(same_size(skeleton, dist2));
+  const row_runs* runs =
+      within.runs != nullptr && within.runs->spans(skeleton) ? within.runs : nullptr;
   std::size_t n = 0;
-  detail::for_each_set_pixel(skeleton, [&](int, int) { ++n; });
+  detail::for_each_skeleton_pixel(skeleton, runs, [&](int, int) { ++n; });
   const std::size_t node_cap = options.max_nodes != 0 ? options.max_nodes : n;
   const std::size_t edge_cap = options.max_branches != 0 ? options.max_branches : n;
 
@@ -684,7 +701,7 @@ template <BinaryView Skeleton>
   access::trunks(out) = *trunks;
   access::skeleton_pixels(out) = n;
   const workspace::checkpoint scratch = ws.mark();
-  const status traced = detail::trace_skeleton(skeleton, dist2, out, ws);
+  const status traced = detail::trace_skeleton(skeleton, dist2, runs, out, ws);
   ws.rewind(scratch);
   if (!traced) return unexpected{traced.error()};
   return result<skeleton_graph>(std::move(out));

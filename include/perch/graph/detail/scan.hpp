@@ -8,9 +8,33 @@
 #include <type_traits>
 
 #include "perch/core/image_view.hpp"
+#include "perch/core/row_runs.hpp"
 #include "perch/core/row_scan.hpp"
 
 namespace perch::detail {
+
+/// Calls `f(x, y)` for every non-zero pixel of `view` inside the runs `within` (which must
+/// `span` the view and contain all its non-zero pixels), row by row, left to right.
+template <BinaryView V, class F>
+void for_each_set_pixel_in(const V& view, const row_runs& within, F&& f) noexcept {
+  using value = typename V::value_type;
+  for (int y = 0; y < view.height(); ++y) {
+    const auto row = view.row(y);
+    for (const row_run r : within.row(y)) {
+      int x = r.begin;
+      if constexpr (byte_pixels<value>) {
+        const auto* bytes = reinterpret_cast<const unsigned char*>(row.data());
+        for (; x + 8 <= r.end; x += 8) {
+          std::uint64_t word = 0;
+          std::memcpy(&word, bytes + x, sizeof word);
+          if (word != 0) for_each_set_byte(word, [&](int i) { f(x + i, y); });
+        }
+      }
+      for (; x < r.end; ++x)
+        if (static_cast<bool>(row[static_cast<std::size_t>(x)])) f(x, y);
+    }
+  }
+}
 
 /// Calls `f(x, y)` for every non-zero pixel of `view`, row by row, left to right.
 template <BinaryView V, class F>
