@@ -117,13 +117,6 @@ struct perch_result {
 
 namespace detail {
 
-/// How many runs of tree `find_perch` lists for a `width` × `height` box (`row_runs`): one per
-/// 16 pixels and one per row; a tree with more (speckle) is scanned instead of listed.
-[[nodiscard]] constexpr std::size_t max_runs(int width, int height) noexcept {
-  return static_cast<std::size_t>(width) * static_cast<std::size_t>(height) / 16 +
-         static_cast<std::size_t>(height);
-}
-
 /// Times stages with the caller's clock (a no-op without one).
 class stage_clock {
  public:
@@ -448,8 +441,12 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   out.scale = Scale::name;
   out.platform = P::name;
 
-  // 1. The tree's bounding box, binarised, reduced, with a background border.
-  auto prepared = prepare_mask(mask, ws, options.downscale);
+  // 1. The tree's bounding box, binarised, reduced, with a background border; and its runs,
+  //    found once for the distance transform, the skeleton and its graph (each would scan the
+  //    box for them): listed while the box is copied, or by a scan of the reduced copy. A
+  //    speckled mask with more runs than `detail::max_runs` is scanned by each instead.
+  detail::runs_wanted wanted;
+  auto prepared = prepare_mask(mask, ws, options.downscale, &wanted);
   if (!prepared) return unexpected{prepared.error()};
   out.mask = *prepared;
   const image_view<std::uint8_t> local = prepared->pixels;
@@ -463,12 +460,12 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   if (!scaled) return unexpected{scaled.error()};
   scale_context context{prepared->analysed_width, prepared->analysed_height, 0, {}, prepared->offset, {}};
   PERCH_TRY(scaled->validate(context));
-  // Its runs, found once for the distance transform and the skeleton (each would scan the box
-  // for them); a speckled mask with more runs than that bound is scanned by each instead.
-  auto found_runs = find_row_runs(image_view<const std::uint8_t>(local), ws, detail::max_runs(w, h));
-  if (!found_runs && found_runs.error().code != errc::capacity_exceeded)
-    return unexpected{found_runs.error()};
-  const row_runs runs = found_runs ? *found_runs : row_runs{};
+  row_runs runs = wanted.runs;
+  if (options.downscale != 1.0f) {
+    auto found = find_row_runs(image_view<const std::uint8_t>(local), ws, detail::max_runs(w, h));
+    if (!found && found.error().code != errc::capacity_exceeded) return unexpected{found.error()};
+    if (found) runs = *found;
+  }
   out.timing.prepare_ms = clock.lap();
   if (prepared->tree_pixels == 0) {
     out.timing.total_ms = clock.total();

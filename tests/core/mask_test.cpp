@@ -81,6 +81,68 @@ TEST_CASE("prepare_mask: every tree pixel lands at local + offset") {
   }
 }
 
+TEST_CASE("prepare_mask: the runs listed while copying are the copy's runs") {
+  // find_perch asks for the runs of the copy (detail::runs_wanted): they must describe the copy
+  // and equal a scan of it; when the copy has more runs than detail::max_runs allows, none are
+  // listed, the workspace keeps only the copy, and the copy is the same.
+  std::mt19937 rng(11);
+  perch::workspace ws;
+  int listed = 0, too_many = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int w = 1 + static_cast<int>(rng() % 60);
+    const int h = 1 + static_cast<int>(rng() % 40);
+    const int stride = w + static_cast<int>(rng() % 5);
+    std::vector<std::uint8_t> buffer(static_cast<std::size_t>(stride * h), 0);
+    const unsigned sparse = trial % 3 == 0 ? 2 : 5 + static_cast<unsigned>(rng() % 20);
+    for (auto& v : buffer) v = rng() % sparse == 0 ? static_cast<std::uint8_t>(1 + rng() % 255) : 0;
+    image_view<const std::uint8_t> mask(buffer.data(), w, h, stride);
+    ws.reset();
+    auto plain = perch::prepare_mask(mask, ws);
+    REQUIRE(plain);
+    const std::size_t copy_bytes = ws.used();
+    perch::detail::runs_wanted wanted;
+    auto prepared = perch::prepare_mask(mask, ws, 1.0f, &wanted);
+    REQUIRE(prepared);
+    const std::size_t wanted_bytes = ws.used() - copy_bytes;
+    const auto copy = image_view<const std::uint8_t>(prepared->pixels);
+    REQUIRE(copy.width() == plain->pixels.width());
+    REQUIRE(copy.height() == plain->pixels.height());
+    for (int y = 0; y < copy.height(); ++y)
+      for (int x = 0; x < copy.width(); ++x) REQUIRE(copy(x, y) == plain->pixels(x, y));
+    CHECK(prepared->tree_pixels == plain->tree_pixels);
+    CHECK(prepared->offset == plain->offset);
+    if (prepared->tree_pixels == 0) {  // an empty mask: nothing to list (find_perch stops)
+      CHECK(wanted.runs.size() == 0);
+      continue;
+    }
+    const std::size_t limit = perch::detail::max_runs(copy.width(), copy.height());
+    auto scanned = perch::find_row_runs(copy, ws, limit);
+    if (!scanned) {
+      REQUIRE(scanned.error().code == errc::capacity_exceeded);
+      CHECK(wanted.runs.size() == 0);
+      CHECK(!wanted.runs.describes(copy));
+      CHECK(wanted_bytes == copy_bytes);  // the list's memory was given back
+      ++too_many;
+      continue;
+    }
+    REQUIRE(wanted.runs.describes(copy));
+    REQUIRE(wanted.runs.size() == scanned->size());
+    for (int y = 0; y < copy.height(); ++y) {
+      const auto a = wanted.runs.row(y);
+      const auto b = scanned->row(y);
+      REQUIRE(a.size() == b.size());
+      for (std::size_t k = 0; k < a.size(); ++k) {
+        CHECK(a[k].begin == b[k].begin);
+        CHECK(a[k].end == b[k].end);
+      }
+    }
+    ++listed;
+  }
+  MESSAGE(listed << " copies listed, " << too_many << " with too many runs");
+  CHECK(listed >= 100);
+  CHECK(too_many >= 20);
+}
+
 TEST_CASE("prepare_mask: an empty mask is not an error") {
   perch::image<std::uint8_t> mask(5, 5);
   perch::workspace ws;

@@ -13,6 +13,7 @@
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/row_runs.hpp"
 #include "perch/core/row_scan.hpp"
 #include "perch/core/workspace.hpp"
 
@@ -92,9 +93,11 @@ struct prepared_mask {
 /// Errors: view errors of `mask`; `invalid_parameter` for a factor outside (0, 1];
 /// `workspace_too_small` / `out_of_memory` from the workspace.
 /// Complexity: O(box pixels), one pass.
+/// (`wanted`: internal, see `detail::runs_wanted`; taken at factor 1 only.)
 template <BinaryView Mask>
 [[nodiscard]] result<prepared_mask> prepare_mask(const Mask& mask, workspace& ws,
-                                                 float factor = 1.0f) noexcept {
+                                                 float factor = 1.0f,
+                                                 detail::runs_wanted* wanted = nullptr) noexcept {
   PERCH_TRY(validate_non_empty(mask));
   if (!(factor > 0.0f && factor <= 1.0f)) return fail(errc::invalid_parameter, "downscale factor");
   prepared_mask out;
@@ -129,6 +132,42 @@ template <BinaryView Mask>
   for (int y = 1; y + 1 < h; ++y) out.pixels(0, y) = out.pixels(w - 1, y) = 0;
 
   std::int64_t count = 0;
+  if (factor == 1.0f && wanted != nullptr) {
+    // Each input row's runs, written as runs of ones into a zeroed row and listed, until the
+    // list is full; from there on the rows are binarised.
+    const auto entry = ws.mark();
+    auto list = detail::run_list_builder::make(ws, h, detail::max_runs(w, h));
+    if (!list) return unexpected{list.error()};
+    bool listing = true;
+    list->start_row(0);
+    for (int y = box.y_min; y <= box.y_max; ++y) {
+      const auto* row = detail::row_pointer(mask, y);
+      std::uint8_t* dst = &out.pixels(0, y - box.y_min + 1);
+      if (!listing) {
+        count += detail::binarise_row(row + box.x_min, dst + 1, box.width());
+        continue;
+      }
+      list->start_row(y - box.y_min + 1);
+      std::fill_n(dst, w, std::uint8_t{0});
+      const int end = box.x_max + 1;
+      for (int a = detail::next_set(row, box.x_min, end); a < end;) {
+        const int b = detail::next_clear(row, a, end);
+        std::fill_n(dst + (a - box.x_min + 1), b - a, std::uint8_t{1});
+        count += b - a;
+        listing = listing && list->add(a - box.x_min + 1, b - box.x_min + 1);
+        a = detail::next_set(row, b, end);
+      }
+    }
+    out.tree_pixels = count;
+    if (listing) {
+      list->start_row(h - 1);
+      wanted->runs =
+          list->finish(static_cast<const void*>(out.pixels.data()), w, h, out.pixels.stride());
+    } else {
+      ws.rewind(entry);
+    }
+    return out;
+  }
   if (factor == 1.0f) {
     for (int y = box.y_min; y <= box.y_max; ++y) {
       count += detail::binarise_row(detail::row_pointer(mask, y) + box.x_min,

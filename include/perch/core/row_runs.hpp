@@ -23,6 +23,10 @@ struct row_run {
   std::int32_t end;
 };
 
+namespace detail {
+class run_list_builder;
+}  // namespace detail
+
 /// The foreground runs of every row of one binary image, in raster order.
 ///
 /// Made by `find_row_runs`, which records the image it describes (data pointer, size, stride).
@@ -58,9 +62,7 @@ class row_runs {
   }
 
  private:
-  template <BinaryView Mask>
-  friend result<row_runs> find_row_runs(const Mask& mask, workspace& ws,
-                                        std::size_t max_runs) noexcept;
+  friend class detail::run_list_builder;
 
   const void* data_ = nullptr;
   int width_ = 0;
@@ -78,6 +80,62 @@ class row_runs {
          workspace::footprint<row_run>(max_runs);
 }
 
+namespace detail {
+
+/// Lists the runs of an image row by row, from top to bottom, into workspace memory: what
+/// `find_row_runs` does with a scan of the image, and `prepare_mask` while it copies the mask.
+class run_list_builder {
+ public:
+  /// Room for `max_runs` runs of an image of `height` rows.
+  [[nodiscard]] static result<run_list_builder> make(workspace& ws, int height,
+                                                     std::size_t max_runs) noexcept {
+    const auto entry = ws.mark();
+    auto first = ws.allocate<std::uint32_t>(static_cast<std::size_t>(height) + 1);
+    if (!first) return unexpected{first.error()};
+    auto runs = ws.allocate<row_run>(max_runs);
+    if (!runs) {
+      ws.rewind(entry);
+      return unexpected{runs.error()};
+    }
+    run_list_builder b;
+    b.first_ = first->data();
+    b.runs_ = runs->data();
+    b.max_ = max_runs;
+    return b;
+  }
+  /// Starts row `y` (rows in order 0, 1, …).
+  void start_row(int y) noexcept {
+    first_[static_cast<std::size_t>(y)] = static_cast<std::uint32_t>(count_);
+  }
+  /// Adds the run [begin, end) to the current row; false (nothing added) when the list is full.
+  [[nodiscard]] bool add(int begin, int end) noexcept {
+    if (count_ == max_) return false;
+    runs_[count_++] = row_run{begin, end};
+    return true;
+  }
+  /// The runs of the image at `data` (`width` × `height`, `stride`), every row started.
+  [[nodiscard]] row_runs finish(const void* data, int width, int height,
+                                std::ptrdiff_t stride) const noexcept {
+    first_[static_cast<std::size_t>(height)] = static_cast<std::uint32_t>(count_);
+    row_runs out;
+    out.data_ = data;
+    out.width_ = width;
+    out.height_ = height;
+    out.stride_ = stride;
+    out.first_ = first_;
+    out.runs_ = runs_;
+    return out;
+  }
+
+ private:
+  std::uint32_t* first_ = nullptr;
+  row_run* runs_ = nullptr;
+  std::size_t count_ = 0;
+  std::size_t max_ = 0;
+};
+
+}  // namespace detail
+
 /// The foreground runs of `mask` (non-zero pixels), at most `max_runs` of them.
 ///
 /// Errors: view errors of `mask`; `capacity_exceeded` (with `error::needed` = max_runs + 1) when
@@ -91,39 +149,38 @@ template <BinaryView Mask>
   const int w = mask.width();
   const int h = mask.height();
   const auto entry = ws.mark();
-  auto first = ws.allocate<std::uint32_t>(static_cast<std::size_t>(h) + 1);
-  if (!first) return unexpected{first.error()};
-  auto runs = ws.allocate<row_run>(max_runs);
-  if (!runs) {
-    ws.rewind(entry);
-    return unexpected{runs.error()};
-  }
-  std::size_t count = 0;
+  auto list = detail::run_list_builder::make(ws, h, max_runs);
+  if (!list) return unexpected{list.error()};
   for (int y = 0; y < h; ++y) {
-    (*first)[static_cast<std::size_t>(y)] = static_cast<std::uint32_t>(count);
+    list->start_row(y);
     const auto* m = detail::row_pointer(mask, y);
     for (int a = detail::next_set(m, 0, w); a < w;) {
       const int b = detail::next_clear(m, a, w);
-      if (count == max_runs) {
+      if (!list->add(a, b)) {
         ws.rewind(entry);
         return fail(errc::capacity_exceeded, "find_row_runs", max_runs + 1);
       }
-      (*runs)[count++] = row_run{a, b};
       a = detail::next_set(m, b, w);
     }
   }
-  (*first)[static_cast<std::size_t>(h)] = static_cast<std::uint32_t>(count);
-  row_runs out;
-  out.data_ = static_cast<const void*>(mask.data());
-  out.width_ = w;
-  out.height_ = h;
-  out.stride_ = mask.stride();
-  out.first_ = first->data();
-  out.runs_ = runs->data();
-  return out;
+  return list->finish(static_cast<const void*>(mask.data()), w, h, mask.stride());
 }
 
 namespace detail {
+
+/// How many runs of tree `find_perch` lists for a `width` × `height` box (`row_runs`): one per
+/// 16 pixels and one per row; a tree with more (speckle) is scanned instead of listed.
+[[nodiscard]] constexpr std::size_t max_runs(int width, int height) noexcept {
+  return static_cast<std::size_t>(width) * static_cast<std::size_t>(height) / 16 +
+         static_cast<std::size_t>(height);
+}
+
+/// `find_perch` asking `prepare_mask` for the runs of the mask it makes, found on the input
+/// rows while they are copied (instead of by another scan of the copy): `runs` is set when at
+/// most `max_runs` of the copy's size fit, and left empty otherwise (the kernels then scan).
+struct runs_wanted {
+  row_runs runs{};
+};
 
 /// `find_perch` handing a skeletoniser the runs of its mask. Internal: the skeletonisers trust
 /// runs that describe the mask to list all of its foreground (stale runs, of a mask changed
