@@ -99,3 +99,71 @@ TEST_CASE("workspace: absurd sizes fail cleanly") {
   REQUIRE(empty);
   CHECK(empty->empty());
 }
+
+#if defined(__linux__) && !defined(PERCH_NO_HUGE_PAGE_HINT)
+#include <sys/mman.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+/// The VmFlags of the mapping of this process that holds `address` (/proc/self/smaps), or "".
+std::string vm_flags_at(const void* address) {
+  const auto at = reinterpret_cast<std::uintptr_t>(address);
+  std::ifstream smaps("/proc/self/smaps");
+  std::string line;
+  bool inside = false;
+  while (std::getline(smaps, line)) {
+    std::uintptr_t from = 0, to = 0;
+    char dash = 0;
+    std::istringstream range(line);
+    if (range >> std::hex >> from >> dash >> to && dash == '-') {
+      inside = at >= from && at < to;
+      continue;
+    }
+    if (inside && line.rfind("VmFlags:", 0) == 0) return line;
+  }
+  return "";
+}
+}  // namespace
+
+TEST_CASE("workspace: large blocks of the default resource are marked for huge pages (Linux)") {
+  // Whether this kernel takes the hint at all (it may lack transparent huge pages).
+  const std::size_t probe_bytes = std::size_t{4} << 20;
+  void* mapping = ::mmap(nullptr, probe_bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS,
+                         -1, 0);
+  REQUIRE(mapping != MAP_FAILED);
+  const auto start = reinterpret_cast<std::uintptr_t>(mapping);
+  const std::uintptr_t page = std::uintptr_t{2} << 20;
+  const bool taken = ::madvise(reinterpret_cast<void*>((start + page - 1) / page * page), page,
+                               MADV_HUGEPAGE) == 0;
+  ::munmap(mapping, probe_bytes);
+  if (!taken) {
+    MESSAGE("this kernel refuses MADV_HUGEPAGE: nothing to check");
+    return;
+  }
+  perch::workspace ws;
+  REQUIRE(ws.reserve(std::size_t{8} << 20));
+  auto before = ws.allocate<std::byte>(std::size_t{3} << 20);  // 3 MiB in: inside a whole page
+  auto probe = ws.allocate<std::byte>(64);
+  REQUIRE(before);
+  REQUIRE(probe);
+  if (!std::ifstream("/proc/self/smaps")) {
+    MESSAGE("no /proc/self/smaps to read the mapping's flags from: nothing to check");
+    return;
+  }
+  const std::string flags = vm_flags_at(probe->data());
+  REQUIRE(!flags.empty());
+  CHECK_MESSAGE(flags.find(" hg") != std::string::npos, flags);
+  // A user's resource is left as it is.
+  std::pmr::monotonic_buffer_resource pool;
+  perch::workspace own{&pool};
+  REQUIRE(own.reserve(std::size_t{8} << 20));
+  auto skipped = own.allocate<std::byte>(std::size_t{3} << 20);
+  auto mine = own.allocate<std::byte>(64);
+  REQUIRE(skipped);
+  REQUIRE(mine);
+  CHECK(vm_flags_at(mine->data()).find(" hg") == std::string::npos);
+}
+#endif
