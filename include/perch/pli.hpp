@@ -488,7 +488,7 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   // looks for skeleton pixels only inside the runs too.
   constexpr bool built_in =
       requires { skeletoniser(tree_mask, dist, skeleton, ws, detail::mask_runs{}); };
-  const detail::mask_runs listed{built_in && runs.size() > 0 ? &runs : nullptr};
+  const detail::mask_runs listed{built_in ? &runs : nullptr};  // empty runs are ignored
   if constexpr (built_in)
     PERCH_TRY(skeletoniser(tree_mask, image_view<const std::uint32_t>(dist), skeleton, ws, listed));
   else

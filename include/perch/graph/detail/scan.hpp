@@ -13,64 +13,53 @@
 
 namespace perch::detail {
 
-/// Calls `f(x, y)` for every non-zero pixel of `view` inside the runs `within` (which must
-/// `span` the view and contain all its non-zero pixels), row by row, left to right.
+/// Calls `f(x, y)` for every non-zero pixel in [from, to) of row `y` of `view`, left to right,
+/// skipping zero bytes 32 at a time when the pixels are bytes (skeletons are sparse).
 template <BinaryView V, class F>
-void for_each_set_pixel_in(const V& view, const row_runs& within, F&& f) noexcept {
+constexpr void for_each_set_pixel_in_row(const V& view, int y, int from, int to, F&& f) noexcept {
   using value = typename V::value_type;
-  for (int y = 0; y < view.height(); ++y) {
-    const auto row = view.row(y);
-    for (const row_run r : within.row(y)) {
-      int x = r.begin;
-      if constexpr (byte_pixels<value>) {
-        const auto* bytes = reinterpret_cast<const unsigned char*>(row.data());
-        for (; x + 8 <= r.end; x += 8) {
-          std::uint64_t word = 0;
-          std::memcpy(&word, bytes + x, sizeof word);
-          if (word != 0) for_each_set_byte(word, [&](int i) { f(x + i, y); });
-        }
+  const auto row = view.row(y);
+  int x = from;
+  if constexpr (byte_pixels<value>) {
+    if (!std::is_constant_evaluated()) {
+      const auto* bytes = reinterpret_cast<const unsigned char*>(row.data());
+      auto word_at = [&](int at) {
+        std::uint64_t word = 0;
+        std::memcpy(&word, bytes + at, sizeof word);
+        return word;
+      };
+      auto visit = [&](int at, std::uint64_t word) {
+        for_each_set_byte(word, [&](int i) { f(at + i, y); });
+      };
+      // Four words tested at once.
+      for (; x + 32 <= to; x += 32) {
+        const std::uint64_t a = word_at(x), b = word_at(x + 8);
+        const std::uint64_t c = word_at(x + 16), d = word_at(x + 24);
+        if ((a | b | c | d) == 0) continue;
+        visit(x, a);
+        visit(x + 8, b);
+        visit(x + 16, c);
+        visit(x + 24, d);
       }
-      for (; x < r.end; ++x)
-        if (static_cast<bool>(row[static_cast<std::size_t>(x)])) f(x, y);
+      for (; x + 8 <= to; x += 8) visit(x, word_at(x));
     }
   }
+  for (; x < to; ++x)
+    if (static_cast<bool>(row[static_cast<std::size_t>(x)])) f(x, y);
 }
 
 /// Calls `f(x, y)` for every non-zero pixel of `view`, row by row, left to right.
 template <BinaryView V, class F>
 constexpr void for_each_set_pixel(const V& view, F&& f) noexcept {
-  using value = typename V::value_type;
-  const int w = view.width();
-  for (int y = 0; y < view.height(); ++y) {
-    const auto row = view.row(y);
-    int x = 0;
-    if constexpr (byte_pixels<value>) {
-      if (!std::is_constant_evaluated()) {
-        const auto* bytes = reinterpret_cast<const unsigned char*>(row.data());
-        auto word_at = [&](int at) {
-          std::uint64_t word = 0;
-          std::memcpy(&word, bytes + at, sizeof word);
-          return word;
-        };
-        auto visit = [&](int at, std::uint64_t word) {
-          for_each_set_byte(word, [&](int i) { f(at + i, y); });
-        };
-        // Four words tested at once: skeletons are sparse.
-        for (; x + 32 <= w; x += 32) {
-          const std::uint64_t a = word_at(x), b = word_at(x + 8);
-          const std::uint64_t c = word_at(x + 16), d = word_at(x + 24);
-          if ((a | b | c | d) == 0) continue;
-          visit(x, a);
-          visit(x + 8, b);
-          visit(x + 16, c);
-          visit(x + 24, d);
-        }
-        for (; x + 8 <= w; x += 8) visit(x, word_at(x));
-      }
-    }
-    for (; x < w; ++x)
-      if (static_cast<bool>(row[static_cast<std::size_t>(x)])) f(x, y);
-  }
+  for (int y = 0; y < view.height(); ++y) for_each_set_pixel_in_row(view, y, 0, view.width(), f);
+}
+
+/// As `for_each_set_pixel`, reading only the runs `within` (which must `span` the view and
+/// contain all its non-zero pixels).
+template <BinaryView V, class F>
+void for_each_set_pixel_in(const V& view, const row_runs& within, F&& f) noexcept {
+  for (int y = 0; y < view.height(); ++y)
+    for (const row_run r : within.row(y)) for_each_set_pixel_in_row(view, y, r.begin, r.end, f);
 }
 
 }  // namespace perch::detail
