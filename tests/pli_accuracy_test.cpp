@@ -7,7 +7,8 @@
 // on 4 trees. Of the 12 misses, 9 are "no perch though one exists": 3 whose claw diameter is
 // within a pixel of the claw's 30 mm minimum plus the constraint's half-pixel margin (43, 204,
 // 234); 4 whose only true stretch is about one window long, where the trimming at a junction is
-// 1-6 px more cautious than the truth (52, 68, 72, 138); 2 noisy trees where a side limb leaving
+// 1-6 px more cautious than the truth (52, 68, 72, 138; on 68 the limb is split at a side limb
+// too thick for a twig, and its own continuation trims it at the base: see the README); 2 noisy trees where a side limb leaving
 // at a narrow angle joins the limb's skeleton far beyond its true base (51, 134). The wrong
 // sites: 1 "diameter" (a noisy outline read ~1 px wide near the 30 mm minimum: 34; the
 // lower-tercile test of `diameter_range` fixed two more such trees, 41 and 64), 1 "off_limb" (a
