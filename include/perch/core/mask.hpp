@@ -149,14 +149,11 @@ template <BinaryView Mask>
       }
       list->start_row(y - box.y_min + 1);
       std::fill_n(dst, w, std::uint8_t{0});
-      const int end = box.x_max + 1;
-      for (int a = detail::next_set(row, box.x_min, end); a < end;) {
-        const int b = detail::next_clear(row, a, end);
+      detail::for_each_run_between(row, box.x_min, box.x_max + 1, [&](int a, int b) {
         std::fill_n(dst + (a - box.x_min + 1), b - a, std::uint8_t{1});
         count += b - a;
         listing = listing && list->add(a - box.x_min + 1, b - box.x_min + 1);
-        a = detail::next_set(row, b, end);
-      }
+      });
     }
     out.tree_pixels = count;
     if (listing) {

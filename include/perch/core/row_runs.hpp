@@ -153,14 +153,12 @@ template <BinaryView Mask>
   if (!list) return unexpected{list.error()};
   for (int y = 0; y < h; ++y) {
     list->start_row(y);
-    const auto* m = detail::row_pointer(mask, y);
-    for (int a = detail::next_set(m, 0, w); a < w;) {
-      const int b = detail::next_clear(m, a, w);
-      if (!list->add(a, b)) {
-        ws.rewind(entry);
-        return fail(errc::capacity_exceeded, "find_row_runs", max_runs + 1);
-      }
-      a = detail::next_set(m, b, w);
+    bool full = false;  // `add` adds nothing once the list is full
+    detail::for_each_run_between(detail::row_pointer(mask, y), 0, w,
+                                 [&](int a, int b) { full = !list->add(a, b) || full; });
+    if (full) {
+      ws.rewind(entry);
+      return fail(errc::capacity_exceeded, "find_row_runs", max_runs + 1);
     }
   }
   return list->finish(static_cast<const void*>(mask.data()), w, h, mask.stride());
@@ -206,11 +204,7 @@ inline void for_each_run_in_row(const row_runs* runs, int y, const T* row, int w
     for (const row_run r : runs->row(y)) visit(static_cast<int>(r.begin), static_cast<int>(r.end));
     return;
   }
-  for (int a = next_set(row, 0, width); a < width;) {
-    const int b = next_clear(row, a, width);
-    visit(a, b);
-    a = next_set(row, b, width);
-  }
+  for_each_run_between(row, 0, width, visit);
 }
 
 }  // namespace detail

@@ -66,6 +66,17 @@ template <class T>
   return x;
 }
 
+/// Calls `visit(a, b)` for each run [a, b) of non-zero pixels of `row` inside [from, to), left
+/// to right (a run is cut at `from` and `to`).
+template <class T, class Visit>
+inline void for_each_run_between(const T* row, int from, int to, Visit&& visit) noexcept {
+  for (int a = next_set(row, from, to); a < to;) {
+    const int b = next_clear(row, a, to);
+    visit(a, b);
+    a = next_set(row, b, to);
+  }
+}
+
 /// Index of the last non-zero pixel of `row` in [from, width), or `from - 1`.
 template <class T>
 [[nodiscard]] inline int last_set(const T* row, int from, int width) noexcept {
