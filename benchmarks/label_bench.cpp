@@ -1,5 +1,6 @@
 // Labelling stage: perch::label_components (8-connectivity, with and without statistics) and
-// perch::count_topology on deterministic synthetic masks at 640×480, 1920×1080 and 4000×3000:
+// perch::count_topology on deterministic synthetic masks at 640×480, 1920×1080 and 4000×3000,
+// and perch::fill_small_holes (pinholes of up to 4 pixels, `find_perch`'s default) on the same:
 //   tree   — a branching tree of thin tapered limbs (about 5–20 % foreground),
 //   blob   — overlapping discs, about 50 % foreground,
 //   noise  — independent pixels at 50 % (the worst case for any labeller: many tiny components).
@@ -9,6 +10,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -171,6 +173,39 @@ void perch_topology(benchmark::State& state) {
   set_counters(state, mask, n);
 }
 
+// Only the fill is timed (manual time): each iteration starts from a fresh copy of the mask
+// and its runs, listed outside the timed part.
+void perch_fill_small_holes(benchmark::State& state) {
+  const auto& mask = cached_mask(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
+                                 static_cast<mask_kind>(state.range(2)));
+  perch::image<std::uint8_t> copy(mask.width(), mask.height());
+  perch::workspace ws;
+  const std::size_t max_runs = mask.view().size() / 2 + static_cast<std::size_t>(mask.height());
+  std::int32_t filled = 0;
+  std::size_t run_count = 0;
+  for (auto _ : state) {
+    std::copy(mask.data(), mask.data() + mask.view().size(), copy.data());
+    ws.reset();
+    auto runs =
+        perch::find_row_runs(perch::image_view<const std::uint8_t>(copy.view()), ws, max_runs);
+    if (!runs) {
+      state.SkipWithError("runs");
+      return;
+    }
+    run_count = runs->size();
+    const auto start = std::chrono::steady_clock::now();
+    auto r = perch::fill_small_holes(copy.view(), *runs, 4, ws);
+    const auto stop = std::chrono::steady_clock::now();
+    filled = r ? r->filled : -1;
+    benchmark::DoNotOptimize(copy.data());
+    state.SetIterationTime(std::chrono::duration<double>(stop - start).count());
+  }
+  set_counters(state, mask, 0);
+  state.counters.erase("components");
+  state.counters["holes_filled"] = filled;
+  state.counters["runs"] = static_cast<double>(run_count);
+}
+
 #if defined(PERCH_HAVE_OPENCV)
 // True when the two label images describe the same partition (a bijection between labels).
 bool same_partition(const perch::image<std::int32_t>& a, const cv::Mat& b) {
@@ -228,6 +263,7 @@ BENCHMARK(opencv_spaghetti)->Apply(sizes);
 #endif
 BENCHMARK(perch_label_stats)->Apply(sizes);
 BENCHMARK(perch_topology)->Apply(sizes);
+BENCHMARK(perch_fill_small_holes)->Apply(sizes)->UseManualTime();
 
 }  // namespace
 

@@ -95,6 +95,39 @@ TEST_CASE("find_perch: windows run along a limb through the junction where a twi
   CHECK(split->outcome == perch_outcome::no_perch);
 }
 
+TEST_CASE("find_perch: pinholes in a limb are filled, so the limb stays whole") {
+  // The limb of the twig test without the twig, with a one-pixel pinhole and a 2 × 2 one (a
+  // segmenter's speckle): the skeleton would circle each and cut the limb into pieces shorter
+  // than a window.
+  image<std::uint8_t> mask(200, 60);
+  capsule(mask, {25, 40}, {175, 40}, 8.5f);
+  mask(60, 36) = 0;
+  for (int y = 43; y < 45; ++y)
+    for (int x = 99; x < 101; ++x) mask(x, y) = 0;
+  perch::workspace ws;
+  auto found = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
+  REQUIRE(found);
+  CHECK(found->holes.filled == 2);
+  CHECK(found->holes.filled_pixels == 5);
+  CHECK(found->mask.pixels(60 - found->mask.offset.x, 36 - found->mask.offset.y) != 0);
+  CHECK(mask(60, 36) == 0);  // the caller's mask is not touched
+  REQUIRE(found->outcome == perch_outcome::found);
+  CHECK(std::abs(found->sites.front().window.centre.y - 40) <= 1);
+  // Filling only the single pixel leaves the 2 × 2 hole mid-limb, and the limb in pieces.
+  perch::perch_options options;
+  options.max_hole_px = 3;
+  auto split =
+      perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws, options);
+  REQUIRE(split);
+  CHECK(split->holes.filled == 1);
+  CHECK(split->outcome == perch_outcome::no_perch);
+  options.max_hole_px = -1;
+  auto bad =
+      perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws, options);
+  REQUIRE(!bad);
+  CHECK(bad.error().code == errc::invalid_parameter);
+}
+
 TEST_CASE("find_perch: slope of the limb is measured and constrained") {
   perch::workspace ws;
   for (const float angle : {10.0f, 20.0f, 30.0f}) {

@@ -46,6 +46,7 @@ void add_pipeline_options(support::arg_parser& args, depth_option depth) {
   args.add_option("roll-deg", "R", "camera roll: angle from the image x axis to the horizon, + clockwise", "0");
   args.add_option("top", "K", "number of ranked candidates", "5");
   args.add_option("downscale", "F", "analyse the mask reduced by F in (0, 1]", "1");
+  args.add_option("max-hole-px", "N", "fill holes of at most N pixels first (0 keeps every hole)", "4");
   args.add_flag("no-timing", "report every timing as 0 (byte-identical output across runs)");
 }
 
@@ -99,6 +100,9 @@ std::string read_pipeline_options(const support::arg_parser& args, depth_option 
   const auto down = args.get_double("downscale", 1.0, 1e-3, 1.0);
   if (!down) return down.error;
   config.downscale = static_cast<float>(down.value);
+  const auto holes = args.get_int("max-hole-px", 4, 0, 1 << 30);
+  if (!holes) return holes.error;
+  config.max_hole_px = static_cast<std::int32_t>(holes.value);
   config.timing = !args.flag("no-timing");
   return {};
 }
@@ -135,6 +139,7 @@ analysis_output run(const analysis_request& request, const run_config& config, c
   analysis_output out;
   perch_options options;
   options.downscale = config.downscale;
+  options.max_hole_px = config.max_hole_px;
   options.camera = attitude{config.roll_deg};
   options.ranking.top_k = config.top_k;
   options.clock = config.timing ? &steady_now_ns : nullptr;

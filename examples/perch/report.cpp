@@ -94,6 +94,7 @@ std::string detect_json(const perch_result& r) {
   json.key("graph").begin_object(json_layout::single_line);
   json.member("nodes", r.graph.node_count()).member("edges", r.graph.branch_count());
   json.member("components", r.graph.component_count());
+  json.member("holes_filled", r.holes.filled);
   json.end_object();
   const stage_timings& t = r.timing;
   json.key("timing_ms").begin_object(json_layout::single_line);

@@ -14,7 +14,7 @@ namespace perch::tool {
 /// `{"status": "ok"|"no_perch", ["reason"], "image": {"width", "height"}, "mm_per_px", "scale",
 ///   "platform", "perch": site|null, "candidates": [site...], "rejected": {constraint: count},
 ///   "near_misses": [...], "windows": {"measured", "viable"}, "graph": {"nodes", "edges",
-///   "components"}, "timing_ms": {stage: ms, ..., "total"}}`
+///   "components", "holes_filled"}, "timing_ms": {stage: ms, ..., "total"}}`
 /// with site = `{"x", "y", "slope_deg", "diameter_mm", "curvature_per_mm", "penalty", "branch",
 /// "component", "rank"[, "position_m"]}` (x, y in input pixels; diameter = claw region mean;
 /// curvature = the window's largest). Pretty-printed, ends with a newline.

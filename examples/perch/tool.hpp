@@ -79,6 +79,7 @@ struct run_config {
   float roll_deg = 0;
   std::size_t top_k = 5;
   float downscale = 1.0f;
+  std::int32_t max_hole_px = 4;  ///< --max-hole-px
   bool timing = true;  ///< false (--no-timing): timing_ms all 0, output byte-deterministic
 };
 
@@ -86,7 +87,7 @@ struct run_config {
 enum class depth_option : std::uint8_t { offered, not_offered };
 
 /// Declares --platform, --mm-per-px, --trunk-mm, [--depth --fx --fy --cx --cy], --roll-deg,
-/// --top, --downscale, --no-timing.
+/// --top, --downscale, --max-hole-px, --no-timing.
 void add_pipeline_options(support::arg_parser& args, depth_option depth);
 
 /// Reads the options declared by `add_pipeline_options` (and loads --depth). Returns an error

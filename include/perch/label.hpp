@@ -8,4 +8,5 @@
 
 #include "perch/label/components.hpp"
 #include "perch/label/connectivity.hpp"
+#include "perch/label/holes.hpp"
 #include "perch/label/topology.hpp"

@@ -30,7 +30,7 @@ using clock_ns_fn = std::int64_t (*)() noexcept;
 
 /// Milliseconds spent in each stage of `find_perch` (all 0 when no clock was given).
 struct stage_timings {
-  float prepare_ms = 0;   ///< bounding box, binarise, downscale
+  float prepare_ms = 0;   ///< bounding box, binarise, downscale, pinholes
   float distance_ms = 0;  ///< Euclidean distance transform
   float skeleton_ms = 0;  ///< skeletonisation
   float graph_ms = 0;     ///< pixel kinds, tracing, adjacency list
@@ -51,6 +51,11 @@ struct perch_options {
   limb_options limbs{};                ///< when windows run on through a junction
   rank_options ranking{};              ///< top-k and the distance between ranked sites
   std::size_t max_windows = std::size_t{1} << 18;  ///< capacity: windows over the whole tree
+  /// Holes of the mask of at most this many input pixels (× downscale² in the analysed mask)
+  /// are filled before the distance transform (`fill_small_holes`): a segmenter's pinholes
+  /// and rasterisation pockets, which the skeleton would circle with a loop that cuts the
+  /// branch in pieces. 0 keeps every hole.
+  std::int32_t max_hole_px = 4;
   clock_ns_fn clock = nullptr;         ///< stage timings when given
 
   [[nodiscard]] status validate() const noexcept {
@@ -61,6 +66,7 @@ struct perch_options {
     if (ranking.top_k == 0 || !(ranking.site_separation_mm >= 0))
       return fail(errc::invalid_parameter, "perch_options.ranking");
     if (max_windows == 0) return fail(errc::invalid_parameter, "perch_options.max_windows");
+    if (max_hole_px < 0) return fail(errc::invalid_parameter, "perch_options.max_hole_px");
     if (auto limbs_ok = limbs.validate(); !limbs_ok) return limbs_ok;
     return camera.validate();
   }
@@ -111,6 +117,7 @@ struct perch_result {
   image_view<const std::uint8_t> skeleton{};  ///< skeleton (1/0), local coordinates
   skeleton_graph graph{};                     ///< after pruning, local coordinates
   std::span<const skeleton_limb> limbs{};     ///< the graph's edges chained into limbs
+  hole_fill_report holes{};                   ///< pinholes filled (`max_hole_px`)
   prune_report pruning{};                     ///< what pruning removed
   stage_timings timing{};
 };
@@ -392,7 +399,8 @@ template <class OwnAt>
   const int h = scaled_extent(height, options.downscale) + 2;
   const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   std::size_t bytes = prepare_mask_workspace_bytes(width, height, options.downscale);
-  bytes += row_runs_workspace_bytes(h, detail::max_runs(w, h));
+  bytes += row_runs_workspace_bytes(h, detail::max_runs(w, h)) +
+           fill_holes_workspace_bytes(h, detail::max_runs(w, h));
   bytes += workspace::footprint<std::uint32_t>(n) + workspace::footprint<std::uint8_t>(n);
   bytes += distance_workspace_bytes(w, h);
   bytes += skeleton_workspace_bytes(w, h);
@@ -466,6 +474,18 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
     if (!found && found.error().code != errc::capacity_exceeded) return unexpected{found.error()};
     if (found) runs = *found;
   }
+  // Pinholes filled (their runs joined), so that no skeleton loop splits a branch around one.
+  // They are found from the runs: a speckled mask with too many runs to list keeps its holes.
+  const double factor2 =
+      static_cast<double>(options.downscale) * static_cast<double>(options.downscale);
+  const auto hole_px =
+      static_cast<std::int64_t>(static_cast<double>(options.max_hole_px) * factor2);
+  if (hole_px > 0 && runs.describes(local)) {
+    auto filled = fill_small_holes(local, runs, hole_px, ws);
+    if (!filled) return unexpected{filled.error()};
+    out.holes = *filled;
+    out.mask.tree_pixels += filled->filled_pixels;
+  }
   out.timing.prepare_ms = clock.lap();
   if (prepared->tree_pixels == 0) {
     out.timing.total_ms = clock.total();
@@ -535,7 +555,11 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   prune_options pruning = options.pruning;
   pruning.diameter_min_mm = platform.geometry.grasp_min_mm;
   pruning.diameter_max_mm = platform.geometry.grasp_max_mm;
-  auto report = prune_skeleton_graph(graph, mm_per_px, ws, pruning);
+  // The analysed image in the box's coordinates: leaves running out of it are not weak.
+  const pixel_box frame{-prepared->offset.x, -prepared->offset.y,
+                        prepared->analysed_width - 1 - prepared->offset.x,
+                        prepared->analysed_height - 1 - prepared->offset.y};
+  auto report = prune_skeleton_graph(graph, mm_per_px, ws, pruning, frame);
   if (!report) return unexpected{report.error()};
   out.pruning = *report;
   out.timing.prune_ms = clock.lap();

@@ -492,3 +492,35 @@ TEST_CASE("prune: no allocation after warm-up") {
     if (round == 1) CHECK(scope.count() == 0);
   }
 }
+
+TEST_CASE("prune: a light leaf that runs out of the image is a limb cut by the frame, not weak") {
+  // A thick limb along row 9 and a thin stub from it up to row 0: light (out of the diameter
+  // range, short) and weak by eq. 1, unless row 0 is the image's top edge.
+  u8image skeleton(30, 12, 0);
+  u32image dist2(30, 12, 0);
+  for (int x = 0; x < 30; ++x) {
+    skeleton(x, 9) = 1;
+    dist2(x, 9) = 9;  // 5 px wide: 40 mm at 8 mm/px
+  }
+  for (int y = 0; y < 9; ++y) {
+    skeleton(14, y) = 1;
+    dist2(14, y) = 1;  // 1 px wide: 8 mm
+  }
+  const prune_options options{.max_length_mm = 100.0f};
+  for (const bool top_is_edge : {false, true}) {
+    CAPTURE(top_is_edge);
+    perch::workspace ws;
+    auto g = perch::build_skeleton_graph(cview(skeleton), cview(dist2), ws);
+    REQUIRE(g);
+    REQUIRE(g->branch_count() == 3);
+    // The image's extent in the graph's coordinates: a larger frame all round, or one whose
+    // top edge is row 0.
+    const perch::pixel_box image{-10, top_is_edge ? 0 : -10, 40, 40};
+    auto report = perch::prune_skeleton_graph(*g, 8.0f, ws, options, image);
+    REQUIRE(report);
+    CHECK(report->weak_leaves_removed == (top_is_edge ? 0u : 1u));
+    CHECK(report->cut_leaves_kept == (top_is_edge ? 1u : 0u));
+    CHECK(g->branch_count() == (top_is_edge ? 3u : 1u));
+    check_handshake(*g);
+  }
+}

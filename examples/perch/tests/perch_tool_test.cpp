@@ -111,7 +111,8 @@ json_value check_detect(const std::string& text, int width, int height) {
   }
   for (const json_value& c : member(doc, "candidates").items) check_site(c);
   CHECK(member(doc, "rejected").is_object());
-  for (const char* key : {"nodes", "edges", "components"}) CHECK(member(member(doc, "graph"), key).is_number());
+  for (const char* key : {"nodes", "edges", "components", "holes_filled"})
+    CHECK(member(member(doc, "graph"), key).is_number());
   CHECK(member(member(doc, "timing_ms"), "total").is_number());
   return doc;
 }
@@ -448,6 +449,7 @@ TEST_CASE("detect: bad scale, roll and depth exit 2 naming the problem") {
       {{"detect", mask, "--roll-deg", "inf"}, "expected a number"},
       {{"detect", mask, "--downscale", "0"}, "out of range"},
       {{"detect", mask, "--downscale", "nan"}, "expected a number"},
+      {{"detect", mask, "--max-hole-px", "-1"}, "out of range"},
       {with_depth("small.png", "1000"), "same size"},
       {downscaled(with_depth("narrow.png", "1000")), "same size"},
       {downscaled(with_depth("invalid.png", "1000")), "no valid"},

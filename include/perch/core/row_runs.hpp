@@ -25,6 +25,7 @@ struct row_run {
 
 namespace detail {
 class run_list_builder;
+class run_list_joiner;
 }  // namespace detail
 
 /// The foreground runs of every row of one binary image, in raster order.
@@ -63,13 +64,14 @@ class row_runs {
 
  private:
   friend class detail::run_list_builder;
+  friend class detail::run_list_joiner;
 
   const void* data_ = nullptr;
   int width_ = 0;
   int height_ = 0;
   std::ptrdiff_t stride_ = 0;
-  const std::uint32_t* first_ = nullptr;  ///< height + 1 entries: row y is runs [first[y], first[y+1])
-  const row_run* runs_ = nullptr;
+  std::uint32_t* first_ = nullptr;  ///< height + 1 entries: row y is runs [first[y], first[y+1])
+  row_run* runs_ = nullptr;
 };
 
 /// Bytes of workspace `find_row_runs` takes for a mask of `height` rows and `max_runs` runs.
@@ -132,6 +134,22 @@ class run_list_builder {
   row_run* runs_ = nullptr;
   std::size_t count_ = 0;
   std::size_t max_ = 0;
+};
+
+/// Rewrites a run list in place, front to back (`fill_small_holes` joining runs across the
+/// gaps it fills): run `at` is put or the last one put extended, and each row's start is set
+/// once its runs are written. The list must only shrink (a run is put at or before where it
+/// was read).
+class run_list_joiner {
+ public:
+  static void put(row_runs& runs, std::size_t at, row_run run) noexcept { runs.runs_[at] = run; }
+  static void extend_last(row_runs& runs, std::size_t count, int end) noexcept {
+    PERCH_ASSERT(count > 0, "run_list_joiner: no run to extend");
+    runs.runs_[count - 1].end = end;
+  }
+  static void set_row_start(row_runs& runs, int y, std::size_t at) noexcept {
+    runs.first_[static_cast<std::size_t>(y)] = static_cast<std::uint32_t>(at);
+  }
 };
 
 }  // namespace detail

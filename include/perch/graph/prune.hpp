@@ -10,6 +10,7 @@
 #include <span>
 #include <utility>
 
+#include "perch/core/mask.hpp"
 #include "perch/core/result.hpp"
 #include "perch/core/workspace.hpp"
 #include "perch/graph/adjacency_list.hpp"
@@ -52,6 +53,8 @@ struct prune_options {
 struct prune_report {
   std::uint32_t tip_spurs_removed = 0;    ///< leaf edges removed by the tip-spur rule
   std::uint32_t weak_leaves_removed = 0;  ///< leaf edges removed by weight and length (eq. 1)
+  /// Leaf edges left that are light and short enough to be weak but run out of the image.
+  std::uint32_t cut_leaves_kept = 0;
   std::uint32_t nodes_removed = 0;        ///< tip nodes left without an edge, removed
   std::uint32_t nodes_merged = 0;         ///< degree-2 nodes joined away
   std::uint32_t passes = 0;               ///< rounds until nothing changed
@@ -132,7 +135,10 @@ inline void apply_weights(skeleton_graph::topology_type& g, float alpha) noexcep
 ///    - a tip spur: `length_px ≤ tip_spur_factor · r + tip_spur_px`, r the radius of the node
 ///      at its other end (the medial axis forks at every round tip; this rule holds at any
 ///      scale, issue "tip spurs go regardless of scale"), or
-///    - weak: `W < weight_threshold` and `length_px · mm_per_px < max_length_mm` (the paper);
+///    - weak: `W < weight_threshold` and `length_px · mm_per_px < max_length_mm` (the paper),
+///      unless its tip lies on the edge of `image` (within 1 px): a limb cut by the frame is
+///      longer than the part in view, so its length cannot tell a twig from a limb (a stub
+///      left as a leaf there is a limb leaving the picture, and the junction it makes stays);
 ///    except the longest leaf at a node with at most one other non-leaf edge, where the branch
 ///    goes on (it joins the branch in step 3); and remove the tip nodes left without an edge;
 /// 3. merge every node of degree 2 (two distinct edges) by joining its two branches: the
@@ -142,14 +148,16 @@ inline void apply_weights(skeleton_graph::topology_type& g, float alpha) noexcep
 /// trunk path), so every component keeps its trunk; loops are kept (a self-loop is no leaf).
 /// Finally branches are weighed again and every joined polyline is written out flat into the
 /// graph's second pool, so `skeleton_branch::points` stay contiguous spans.
+/// `image`: the image's extent in the graph's coordinates (`find_perch`: the analysed frame
+/// relative to the tree's box); empty (the default) when unknown: no leaf counts as cut.
 /// Errors: `invalid_parameter` / `range_inverted` for bad options or scale (graph untouched);
 /// `workspace_too_small` for a borrowed workspace (graph untouched).
 /// Memory: scratch from `ws` (released before returning); no heap allocation once `ws` has
 /// grown. Complexity: O(passes × (nodes + branches) + points); passes are few on real trees.
 /// Implements §"Calculate Weightings" (eq. 1) and §"Prune Graph" of the paper.
 [[nodiscard]] inline result<prune_report> prune_skeleton_graph(
-    skeleton_graph& graph, float mm_per_px, workspace& ws,
-    const prune_options& options = {}) noexcept {
+    skeleton_graph& graph, float mm_per_px, workspace& ws, const prune_options& options = {},
+    const pixel_box& image = {}) noexcept {
   using namespace detail;
   using access = skeleton_graph_access;
   PERCH_TRY(options.validate());
@@ -234,6 +242,16 @@ inline void apply_weights(skeleton_graph::topology_type& g, float alpha) noexcep
     return non_leaf <= 1;
   };
 
+  // Eq. 1's weak leaves, and tips on the image's edge (a leaf there is cut by the frame).
+  auto light = [&](const skeleton_edge_data& d) {
+    return d.weight < options.weight_threshold && d.length_px * mm_per_px < options.max_length_mm;
+  };
+  auto cut = [&](node_id tip) {
+    const pixel p = g.node(tip).position;
+    return !image.empty() && (p.x <= image.x_min + 1 || p.y <= image.y_min + 1 ||
+                              p.x >= image.x_max - 1 || p.y >= image.y_max - 1);
+  };
+
   for (;;) {
     ++report.passes;
     apply_weights(g, options.alpha);
@@ -250,8 +268,7 @@ inline void apply_weights(skeleton_graph::topology_type& g, float alpha) noexcep
       const node_id stem = leaf_a ? b : a;
       const float r = g.node(stem).radius_px;
       const bool spur = d.length_px <= options.tip_spur_factor * r + options.tip_spur_px;
-      const bool weak = d.weight < options.weight_threshold &&
-                        d.length_px * mm_per_px < options.max_length_mm;
+      const bool weak = light(d) && !cut(leaf_a ? a : b);
       if ((spur || weak) && continues_through(stem, e)) return;
       if (spur) ++report.tip_spurs_removed;
       else if (weak) ++report.weak_leaves_removed;
@@ -286,6 +303,13 @@ inline void apply_weights(skeleton_graph::topology_type& g, float alpha) noexcep
     if (count == 0 && merged == 0) break;
   }
   apply_weights(g, options.alpha);
+  g.for_each_edge([&](edge_id e) {
+    const node_id a = g.source(e), b = g.target(e);
+    const node_id tip = g.degree(a) == 1 ? a : b;
+    if (a != b && g.degree(tip) == 1 && !is_trunk(a) && !is_trunk(b) && light(g.edge(e)) &&
+        cut(tip))
+      ++report.cut_leaves_kept;
+  });
 
   // Write joined polylines out flat into the other pool (every live polyline is copied, so the
   // pools swap roles).
