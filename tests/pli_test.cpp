@@ -128,6 +128,32 @@ TEST_CASE("find_perch: pinholes in a limb are filled, so the limb stays whole") 
   CHECK(bad.error().code == errc::invalid_parameter);
 }
 
+TEST_CASE("find_perch: a site never lies on a filled pinhole") {
+  // The perch pixel of a level limb, then the same limb with a pinhole punched there: the
+  // window's middle moves to the nearest tree pixel of its centreline (found by fuzzing).
+  image<std::uint8_t> mask(200, 60);
+  capsule(mask, {25, 40}, {175, 40}, 8.5f);
+  perch::workspace ws;
+  auto solid = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
+  REQUIRE(solid);
+  REQUIRE(solid->outcome == perch_outcome::found);
+  const perch::pixel at = solid->sites.front().window.centre;
+  mask(at.x, at.y) = 0;
+  auto holed = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
+  REQUIRE(holed);
+  CHECK(holed->holes.filled == 1);
+  REQUIRE(holed->outcome == perch_outcome::found);
+  for (const perch::perch_site& site : holed->sites) {
+    const perch::pixel c = site.window.centre;
+    CHECK(mask(c.x, c.y) != 0);
+    const perch::skeleton_limb& limb = holed->limbs[static_cast<std::size_t>(site.window.limb)];
+    const perch::pixel p = limb.points[site.window.middle];
+    CHECK(perch::pixel{p.x + holed->mask.offset.x, p.y + holed->mask.offset.y} == c);
+  }
+  const perch::pixel moved = holed->sites.front().window.centre;
+  CHECK(std::abs(moved.x - at.x) + std::abs(moved.y - at.y) <= 2);
+}
+
 TEST_CASE("find_perch: slope of the limb is measured and constrained") {
   perch::workspace ws;
   for (const float angle : {10.0f, 20.0f, 30.0f}) {

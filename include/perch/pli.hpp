@@ -54,7 +54,9 @@ struct perch_options {
   /// Holes of the mask of at most this many input pixels (× downscale² in the analysed mask)
   /// are filled before the distance transform (`fill_small_holes`): a segmenter's pinholes
   /// and rasterisation pockets, which the skeleton would circle with a loop that cuts the
-  /// branch in pieces. 0 keeps every hole.
+  /// branch in pieces. 0 keeps every hole. A site is never one of the filled pixels: a window
+  /// whose middle falls on one moves it to the nearest tree pixel of its centreline, and a
+  /// window with none (it runs over filled speckle only) is dropped.
   std::int32_t max_hole_px = 4;
   clock_ns_fn clock = nullptr;         ///< stage timings when given
 
@@ -383,6 +385,30 @@ template <class OwnAt>
   return {front, n - front - back};
 }
 
+/// A window whose middle point lies on a pinhole `find_perch` filled (background in the input
+/// `mask`) moves its middle to the nearest point of its centreline that is tree in the input,
+/// so that a site's pixel is always one of the mask's; false when there is none (the window
+/// runs over filled pixels only). `points` are the limb's (local coordinates, `offset` to the
+/// input's; full resolution only).
+template <BinaryView Mask>
+[[nodiscard]] bool middle_on_tree(const Mask& mask, std::span<const pixel> points, pixel offset,
+                                  window_measures& w) noexcept {
+  auto tree = [&](std::uint32_t i) {
+    return static_cast<bool>(mask(points[i].x + offset.x, points[i].y + offset.y));
+  };
+  if (tree(w.middle)) return true;
+  for (std::uint32_t d = 1; w.middle >= w.first + d || w.middle + d <= w.last; ++d) {
+    const std::uint32_t to = w.middle >= w.first + d && tree(w.middle - d)  ? w.middle - d
+                             : w.middle + d <= w.last && tree(w.middle + d) ? w.middle + d
+                                                                            : w.middle;
+    if (to == w.middle) continue;
+    w.middle = to;
+    w.centre = {points[to].x + offset.x, points[to].y + offset.y};
+    return true;
+  }
+  return false;
+}
+
 }  // namespace detail
 
 /// Bytes of workspace `find_perch` needs at most for a `width` × `height` mask (every pixel
@@ -616,8 +642,16 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
                       static_cast<std::uint32_t>(stretch.first), widths};
     const std::size_t before = windows->size();
     measured = measure_windows(g, *scaled, mm_per_px, *window_scratch, *windows, geometry);
-    for (window_measures& window : windows->items().subspan(before))
+    std::size_t kept = before;
+    for (std::size_t i = before; i < windows->size(); ++i) {
+      window_measures window = (*windows)[i];
+      if (out.holes.filled > 0 && options.downscale == 1.0f &&
+          !detail::middle_on_tree(mask, limb.points, prepared->offset, window))
+        continue;
       window.branch = limb.edge_at[window.middle];
+      (*windows)[kept++] = window;
+    }
+    windows->truncate(kept);
   }
   PERCH_TRY(measured);
   out.windows = static_cast<std::uint32_t>(windows->size());
