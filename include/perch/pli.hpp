@@ -398,10 +398,13 @@ template <BinaryView Mask>
   };
   if (tree(w.middle)) return true;
   for (std::uint32_t d = 1; w.middle >= w.first + d || w.middle + d <= w.last; ++d) {
-    const std::uint32_t to = w.middle >= w.first + d && tree(w.middle - d)  ? w.middle - d
-                             : w.middle + d <= w.last && tree(w.middle + d) ? w.middle + d
-                                                                            : w.middle;
-    if (to == w.middle) continue;
+    std::uint32_t to = 0;
+    if (w.middle >= w.first + d && tree(w.middle - d))
+      to = w.middle - d;
+    else if (w.middle + d <= w.last && tree(w.middle + d))
+      to = w.middle + d;
+    else
+      continue;
     w.middle = to;
     w.centre = {points[to].x + offset.x, points[to].y + offset.y};
     return true;

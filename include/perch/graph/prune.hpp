@@ -137,8 +137,8 @@ inline void apply_weights(skeleton_graph::topology_type& g, float alpha) noexcep
 ///      scale, issue "tip spurs go regardless of scale"), or
 ///    - weak: `W < weight_threshold` and `length_px · mm_per_px < max_length_mm` (the paper),
 ///      unless its tip lies on the edge of `image` (within 1 px): a limb cut by the frame is
-///      longer than the part in view, so its length cannot tell a twig from a limb (a stub
-///      left as a leaf there is a limb leaving the picture, and the junction it makes stays);
+///      longer than the part in view, so its length cannot tell a twig from a limb (a short
+///      leaf there is a limb leaving the picture, and the junction it makes stays);
 ///    except the longest leaf at a node with at most one other non-leaf edge, where the branch
 ///    goes on (it joins the branch in step 3); and remove the tip nodes left without an edge;
 /// 3. merge every node of degree 2 (two distinct edges) by joining its two branches: the
