@@ -168,6 +168,29 @@ TEST_CASE("simple-pixel table equals the Yokoi 8-connectivity number being 1") {
   }
 }
 
+TEST_CASE("neighbour pairs: the code is their even bits, flags in the odd ones") {
+  // Every 3×3 neighbourhood of bytes 0 (background), 1 (foreground) or 3 (foreground, flagged).
+  std::uint8_t px[9] = {};
+  perch::detail::padded_image img;
+  img.px = px;
+  img.stride = 3;
+  for (unsigned pattern = 0; pattern < 6561; ++pattern) {  // 3^8
+    unsigned rest = pattern, flags = 0;
+    for (int k = 0; k < 8; ++k) {
+      const unsigned v = rest % 3;
+      rest /= 3;
+      px[(1 + perch::detail::code_dy[k]) * 3 + 1 + perch::detail::code_dx[k]] =
+          static_cast<std::uint8_t>(v == 0   ? 0
+                                    : v == 1 ? 1
+                                             : 3);
+      if (v == 2) flags |= 1u << k;
+    }
+    const unsigned pairs = img.pairs(4);
+    CHECK(perch::detail::even_bits(pairs) == img.code(4));
+    CHECK(perch::detail::even_bits(pairs >> 1) == flags);
+  }
+}
+
 TEST_CASE("skeletonisers: ASCII cases keep the guarantees") {
   workspace ws;
   for (const char* art : ascii_cases) {

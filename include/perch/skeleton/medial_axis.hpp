@@ -61,13 +61,17 @@ struct medial_axis {
     return m * m;
   }
 
-  /// Bytes of workspace a call takes at most (the padded working copy, the queue links and
-  /// the buckets).
+  /// Bytes of workspace a call takes at most (the padded working copy and its keys, the
+  /// queue: two arrays of a slot per pixel and two per key; then the clean-up's queue).
   [[nodiscard]] static constexpr std::size_t workspace_bytes(int width, int height) noexcept {
     if (width <= 0 || height <= 0) return 0;
     const std::size_t n = detail::padded_pixels(width, height);
-    return workspace::footprint<std::uint8_t>(n) + workspace::footprint<std::uint32_t>(n + 16) +
-           2 * workspace::footprint<std::uint32_t>(std::size_t{max_dist2(width, height)} + 1);
+    const std::size_t keys = std::size_t{max_dist2(width, height)} + 2;
+    const std::size_t peel = workspace::footprint<std::uint32_t>(n) +
+                             2 * workspace::footprint<std::uint32_t>(n + 1) +
+                             2 * workspace::footprint<std::uint32_t>(keys);
+    const std::size_t clean_up = workspace::footprint<std::uint32_t>(n + 16);
+    return workspace::footprint<std::uint8_t>(n) + (peel > clean_up ? peel : clean_up);
   }
 
   /// (`listed`: internal, see `detail::mask_runs`.)
@@ -83,8 +87,7 @@ struct medial_axis {
   }
 
  private:
-  static constexpr std::uint32_t empty = 0x7FFFFFFFu;     ///< no pixel (end of a list)
-  static constexpr std::uint32_t unqueued = 0x80000000u;  ///< see `peel`
+  static constexpr std::uint8_t queued = 2;  ///< flag of a pixel in the queue (bit 1 of `px`)
 
   [[nodiscard]] status run(image_view<const std::uint8_t> mask,
                            image_view<const std::uint32_t> dist2,
@@ -107,134 +110,168 @@ struct medial_axis {
     const std::size_t cells = in_place ? static_cast<std::size_t>(img.stride) *
                                              static_cast<std::size_t>(img.height)
                                        : detail::padded_pixels(img.width, img.height);
-    // Pixel indices must stay below `empty` (only a degenerate strip, e.g. 1 × 2^30, reaches it).
-    if (cells >= empty) return fail(errc::image_too_large, "medial_axis: too many pixels");
-    auto next_memory = ws.allocate<std::uint32_t>(cells + 16);
-    if (!next_memory) return unexpected{next_memory.error()};
-    std::uint32_t* next = next_memory->data();
+    // Pixel indices are held in 32 bits (only a degenerate strip, e.g. 1 × 2^31, has more).
+    if (cells >= 0x7FFFFFFFu) return fail(errc::image_too_large, "medial_axis: too many pixels");
+    const auto peeling = ws.mark();
     const status peeled = in_place && dist2.stride() == img.stride
-                              ? peel(img, next, ws, cap, distances_by_index{dist2.data()})
-                              : peel(img, next, ws, cap, distances_by_position{&img, dist2});
+                              ? peel(img, ws, cap, distances_by_index{dist2.data()})
+                              : peel(img, ws, cap, distances_by_position{&img, dist2});
+    ws.rewind(peeling);
     if (!peeled) return peeled;
-    if (thinness == perch::thinness::one_pixel)
-      (void)detail::remove_blocks(img, mask, dist2, next);
+    if (thinness == perch::thinness::one_pixel) {
+      auto queue = ws.allocate<std::uint32_t>(cells + 16);
+      if (!queue) return unexpected{queue.error()};
+      (void)detail::remove_blocks(img, mask, dist2, queue->data());
+    }
     if (!in_place) detail::store_skeleton(img, skeleton);
     return {};
   }
 
   /// Where the distances of a run of the working image starting at pixel `i` are: at the same
   /// index when `dist2` is laid out like the working image, else found from the run's position
-  /// (a run lies in one row of both images).
+  /// (a run lies in one row of both images), and then copied into an array laid out like the
+  /// working image for the peeling to read by index.
   struct distances_by_index {
     const std::uint32_t* d;
-    const std::uint32_t* run(std::ptrdiff_t i) const noexcept { return d + i; }
+    static constexpr bool copied = false;
+    [[nodiscard]] const std::uint32_t* run(std::ptrdiff_t i) const noexcept { return d + i; }
   };
   struct distances_by_position {
     const detail::padded_image* img;
     image_view<const std::uint32_t> dist2;
-    const std::uint32_t* run(std::ptrdiff_t i) const noexcept {
+    static constexpr bool copied = true;
+    [[nodiscard]] const std::uint32_t* run(std::ptrdiff_t i) const noexcept {
       const pixel p = img->position(i);
       return &dist2(p.x, p.y);
     }
   };
 
-  /// The monotone bucket queue: FIFO lists per key, linked through `next`, heads and tails
-  /// per key up to the largest key present.
-  struct buckets {
-    std::uint32_t* next;
-    std::uint32_t* head;
-    std::uint32_t* tail;
-
-    void push(std::uint32_t u, std::uint32_t key) noexcept {
-      next[u] = empty;
-      if (head[key] == empty) {
-        head[key] = u;
-      } else {
-        next[tail[key]] = u;
-      }
-      tail[key] = u;
-    }
-  };
-
-  /// `next` doubles as the key store: a pixel out of the queue holds `unqueued` + its key there
-  /// (filled in one raster pass, so the peeling never reads `dist2`), a queued one its link
-  /// (below `unqueued`: pixel indices are below `empty`, keys below 2^31), and a popped pixel kept
-  /// `unqueued` + the bucket it left, which is at least its key and at most any later bucket,
-  /// so it re-enters at the current one as with its key. The same pass queues the border pixels
-  /// (in raster order); the buckets have room for every key up to `cap` and are made empty up
-  /// to the largest key seen so far.
+  /// The monotone bucket queue, without links: a pixel pushed before its key's turn goes to
+  /// that key's slice of `order` (slices laid out by counting the keys of all pixels: each
+  /// pixel enters its own key's slice at most once), and one pushed during the key being
+  /// emptied, which is appended last anyway, goes to the `ring` (first in, first out). So a
+  /// key's pixels are visited in the order a single first-in first-out list would give: the
+  /// slice, then the ring; and the pixels to come sit in an array, fetched well ahead.
+  /// A queued pixel carries the `queued` flag in the working image; a pixel popped and kept
+  /// re-enters at the current key when a neighbour is deleted (its own is not above it).
   template <class Distances>
-  [[nodiscard]] static status peel(const detail::padded_image& img, std::uint32_t* next,
-                                   workspace& ws, std::uint32_t cap, Distances distances) noexcept {
+  [[nodiscard]] static status peel(const detail::padded_image& img, workspace& ws,
+                                   std::uint32_t cap, Distances distances) noexcept {
     std::uint8_t* px = img.px;
-    auto head_memory = ws.allocate<std::uint32_t>(std::size_t{cap} + 1);
-    auto tail_memory = ws.allocate<std::uint32_t>(std::size_t{cap} + 1);
-    if (!head_memory) return unexpected{head_memory.error()};
-    if (!tail_memory) return unexpected{tail_memory.error()};
-    buckets q{next, head_memory->data(), tail_memory->data()};
+    const std::size_t ring_size = img.pixels + 1;
+    auto fill_memory = ws.allocate<std::uint32_t>(std::size_t{cap} + 2);
+    auto order_memory = ws.allocate<std::uint32_t>(ring_size);
+    auto ring_memory = ws.allocate<std::uint32_t>(ring_size);
+    if (!fill_memory) return unexpected{fill_memory.error()};
+    if (!order_memory) return unexpected{order_memory.error()};
+    if (!ring_memory) return unexpected{ring_memory.error()};
+    std::uint32_t* fill = fill_memory->data();  // per key: the end of its slice so far
+    std::uint32_t* order = order_memory->data();
+    std::uint32_t* ring = ring_memory->data();
+    std::uint32_t* copy = nullptr;
+    if constexpr (Distances::copied) {
+      auto copy_memory =
+          ws.allocate<std::uint32_t>(static_cast<std::size_t>(img.stride) *
+                                     static_cast<std::size_t>(img.height + 2 * img.pad));
+      if (!copy_memory) return unexpected{copy_memory.error()};
+      copy = copy_memory->data();
+    }
+    const std::uint32_t* keys = copy;
+    if constexpr (!Distances::copied) keys = distances.d;
+    auto key = [keys, cap](std::ptrdiff_t i) { return keys[i] < cap ? keys[i] : cap; };
+
+    // One pass over the runs: the keys counted (into fill[k + 1]; copied if need be) and the
+    // border pixels listed in raster order (in `ring`, for now): each run's two ends, and
+    // between them the pixels below or above background, found eight at a time.
     std::uint32_t top_key = 0;
-    q.head[0] = empty;
+    std::size_t border = 0;
+    fill[0] = 0;
+    fill[1] = 0;
     detail::for_each_run(img, [&](std::ptrdiff_t first, std::ptrdiff_t end) {
-      // The key: dist2, clamped to `cap`.
       const std::uint32_t* d = distances.run(first);
-      std::uint32_t run_top = top_key;
       for (std::ptrdiff_t i = first; i < end; ++i) {
-        const std::uint32_t key = d[i - first] < cap ? d[i - first] : cap;
-        run_top = key > run_top ? key : run_top;
-        next[i] = unqueued + key;
+        if constexpr (Distances::copied) copy[i] = d[i - first];
+        const std::uint32_t k = key(i);
+        while (top_key < k) fill[++top_key + 1] = 0;
+        ++fill[k + 1];
       }
-      while (top_key < run_top) q.head[++top_key] = empty;
-      // The border pixels in raster order: the run's two ends, and between them the pixels
-      // below or above background, found eight at a time.
-      auto push = [&](std::ptrdiff_t i) {
-        q.push(static_cast<std::uint32_t>(i), next[i] - unqueued);
-      };
-      push(first);
       const std::ptrdiff_t last = end - 1;
       std::ptrdiff_t i = first + 1;
+      ring[border++] = static_cast<std::uint32_t>(first);
       for (; i + 8 <= last; i += 8) {
         std::uint64_t up = 0, down = 0;
         std::memcpy(&up, px + i - img.stride, 8);
         std::memcpy(&down, px + i + img.stride, 8);
-        detail::for_each_set_byte(~(up & down) & 0x0101010101010101ull,
-                                  [&](int k) { push(i + k); });
+        detail::for_each_set_byte(~(up & down) & 0x0101010101010101ull, [&](int k) {
+          ring[border++] = static_cast<std::uint32_t>(i + k);
+        });
       }
       for (; i < last; ++i)
-        if ((px[i - img.stride] & px[i + img.stride]) == 0) push(i);
-      if (last > first) push(last);
+        if (((px[i - img.stride] & px[i + img.stride]) & 1u) == 0)
+          ring[border++] = static_cast<std::uint32_t>(i);
+      if (last > first) ring[border++] = static_cast<std::uint32_t>(last);
     });
+    auto start_memory = ws.allocate<std::uint32_t>(std::size_t{top_key} + 2);
+    if (!start_memory) return unexpected{start_memory.error()};
+    std::uint32_t* start = start_memory->data();  // per key: the beginning of its slice
+    for (std::uint32_t k = 0; k <= top_key; ++k) {
+      fill[k + 1] += fill[k];
+      start[k] = fill[k];
+    }
+    start[top_key + 1] = fill[top_key + 1];
+    for (std::size_t b = 0; b < border; ++b) {
+      const std::uint32_t i = ring[b];
+      px[i] |= queued;
+      order[fill[key(i)]++] = i;
+    }
 
     std::ptrdiff_t offset[8];
     for (int k = 0; k < 8; ++k) offset[k] = img.offset[k];
-    for (std::uint32_t current = 0; current <= top_key; ++current) {
-      while (q.head[current] != empty) {
-        const std::uint32_t i = q.head[current];
-        const std::uint32_t after = next[i];
-        q.head[current] = after;
-        if (after != empty && next[after] != empty) {
-          // The pixels of a level lie all over the image: fetch the neighbourhood of the one
-          // after next while this one is worked on (a hint only; no effect on the result).
-          const std::uint32_t ahead = next[after];
-          detail::prefetch(px + ahead - img.stride);
-          detail::prefetch(px + ahead);
-          detail::prefetch(px + ahead + img.stride);
-          detail::prefetch(next + ahead - img.stride);
-          detail::prefetch(next + ahead);
-          detail::prefetch(next + ahead + img.stride);
+    std::size_t ring_head = 0;
+    std::size_t ring_tail = 0;
+    std::uint32_t current = 0;
+    // Pops pixel i: deletes it when simple and not an end pixel, queueing its neighbours left.
+    auto visit = [&](std::uint32_t i) {
+      const unsigned pairs = img.pairs(i);  // bits 2k, 2k + 1: neighbour k, and queued
+      const unsigned c = detail::even_bits(pairs);
+      if (!detail::deletable_table[c]) {
+        px[i] = 1;
+        return;
+      }
+      px[i] = 0;
+      // The neighbours left (the bits of the code), in code order, unless already queued.
+      for (unsigned fresh = pairs & ~(pairs >> 1) & 0x5555u; fresh != 0; fresh &= fresh - 1) {
+        const std::ptrdiff_t n =
+            static_cast<std::ptrdiff_t>(i) + offset[std::countr_zero(fresh) / 2];
+        px[n] |= queued;
+        const std::uint32_t k = key(n);
+        if (k > current) {
+          order[fill[k]++] = static_cast<std::uint32_t>(n);
+        } else {
+          ring[ring_tail] = static_cast<std::uint32_t>(n);
+          ring_tail = ring_tail + 1 == ring_size ? 0 : ring_tail + 1;
         }
-        const unsigned c = img.code_of_bits(i);  // the peel sets no flags
-        if (!detail::deletable_table[c]) {
-          next[i] = unqueued + current;
-          continue;
+      }
+    };
+    constexpr std::uint32_t ahead = 8;  // pixels fetched ahead (a hint only; no effect)
+    for (; current <= top_key; ++current) {
+      const std::uint32_t end = fill[current];  // no more pixels join this slice
+      for (std::uint32_t at = start[current]; at < end; ++at) {
+        if (at + ahead < end) {
+          const std::uint32_t a = order[at + ahead];
+          detail::prefetch(px + a - img.stride);
+          detail::prefetch(px + a);
+          detail::prefetch(px + a + img.stride);
+          detail::prefetch(keys + a - img.stride);
+          detail::prefetch(keys + a);
+          detail::prefetch(keys + a + img.stride);
         }
-        px[i] = 0;
-        // The neighbours left (the bits of the code), in code order, unless already queued.
-        for (unsigned left = c; left != 0; left &= left - 1) {
-          const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(i) + offset[std::countr_zero(left)];
-          if (next[n] < unqueued) continue;
-          const std::uint32_t key = next[n] - unqueued;
-          q.push(static_cast<std::uint32_t>(n), key > current ? key : current);
-        }
+        visit(order[at]);
+      }
+      while (ring_head != ring_tail) {
+        const std::uint32_t i = ring[ring_head];
+        ring_head = ring_head + 1 == ring_size ? 0 : ring_head + 1;
+        visit(i);
       }
     }
     return {};

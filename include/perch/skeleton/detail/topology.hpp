@@ -35,6 +35,14 @@ inline constexpr int code_dy[8] = {-1, -1, 0, 1, 1, 1, 0, -1};
 
 [[nodiscard]] constexpr bool bit(unsigned code, int k) noexcept { return ((code >> k) & 1u) != 0; }
 
+/// Bits 0, 2, …, 14 of `pairs` packed into bits 0…7.
+[[nodiscard]] constexpr unsigned even_bits(unsigned pairs) noexcept {
+  unsigned x = pairs & 0x5555u;
+  x = (x | x >> 1) & 0x3333u;
+  x = (x | x >> 2) & 0x0F0Fu;
+  return (x | x >> 4) & 0x00FFu;
+}
+
 /// Rosenfeld's simple pixel: deleting p keeps the 8-components of the foreground and the
 /// 4-components of the background. Locally: the foreground of N8(p) forms exactly one
 /// 8-component, and the background of N8(p) has exactly one 4-component that is 4-adjacent to
@@ -145,6 +153,7 @@ struct padded_image {
   double inv_stride = 0;
   int pad = 1;  ///< 1 for the padded copy, 0 when working in the output
   const row_runs* runs = nullptr;  ///< the runs of the mask it was loaded from, if known
+  std::size_t pixels = 0;          ///< foreground pixels loaded
 
   [[nodiscard]] std::ptrdiff_t index(int x, int y) const noexcept {
     return (static_cast<std::ptrdiff_t>(y) + pad) * stride + x + pad;
@@ -162,12 +171,14 @@ struct padded_image {
     return (p[-s] & 1u) | (p[-s + 1] & 1u) << 1 | (p[1] & 1u) << 2 | (p[s + 1] & 1u) << 3 |
            (p[s] & 1u) << 4 | (p[s - 1] & 1u) << 5 | (p[-1] & 1u) << 6 | (p[-s - 1] & 1u) << 7;
   }
-  /// `code(i)` when every byte of the working image is 0 or 1 (no flags set): no masking.
-  [[nodiscard]] unsigned code_of_bits(std::ptrdiff_t i) const noexcept {
+  /// The 8-neighbourhood of `i` with two bits per neighbour, in code order (neighbour k in bits
+  /// 2k and 2k + 1), when every byte is 0, 1 or 3 (foreground and bit 1 as a flag): its
+  /// `code` is `even_bits(pairs(i))`.
+  [[nodiscard]] unsigned pairs(std::ptrdiff_t i) const noexcept {
     const std::uint8_t* p = px + i;
     const std::ptrdiff_t s = stride;
-    return static_cast<unsigned>(p[-s] | p[-s + 1] << 1 | p[1] << 2 | p[s + 1] << 3 | p[s] << 4 |
-                                 p[s - 1] << 5 | p[-1] << 6 | p[-s - 1] << 7);
+    return static_cast<unsigned>(p[-s] | p[-s + 1] << 2 | p[1] << 4 | p[s + 1] << 6 | p[s] << 8 |
+                                 p[s - 1] << 10 | p[-1] << 12 | p[-s - 1] << 14);
   }
   /// True when a 4-neighbour of `i` is background.
   [[nodiscard]] bool on_border(std::ptrdiff_t i) const noexcept {
@@ -199,7 +210,7 @@ struct padded_image {
     std::uint8_t* d = img.px + img.index(0, y);
     d[-1] = 0;
     d[img.width] = 0;
-    (void)binarise_row(m, d, img.width);
+    img.pixels += binarise_row(m, d, img.width);
   }
   return img;
 }
@@ -239,12 +250,14 @@ struct padded_image {
     const std::uint8_t* m = mask.data() + static_cast<std::ptrdiff_t>(y) * mask.stride();
     std::uint8_t* d = img.px + static_cast<std::ptrdiff_t>(y) * img.stride;
     if (runs == nullptr) {
-      (void)binarise_row(m, d, img.width);
+      img.pixels += binarise_row(m, d, img.width);
       continue;
     }
     std::memset(d, 0, static_cast<std::size_t>(img.width));
-    for (const row_run r : runs->row(y))
+    for (const row_run r : runs->row(y)) {
       std::memset(d + r.begin, 1, static_cast<std::size_t>(r.end - r.begin));
+      img.pixels += static_cast<std::size_t>(r.end - r.begin);
+    }
   }
   return img;
 }
