@@ -212,18 +212,64 @@ TEST_CASE("envelope intersections: floor division by a reciprocal is exact") {
 }
 
 TEST_CASE("distance_transform_sq: equals brute force on thick shapes (long runs, tall columns)") {
-  // Rows crossing a shape wider than the short-run search take the parabola envelope, which
-  // skips columns taller than half the run; these masks have such runs and columns.
+  // Rows crossing a shape thicker than the windowed search's reach (both ways) take the parabola
+  // envelope, which skips columns taller than half the run; these masks have such runs and
+  // columns.
   std::mt19937 rng(20261125);
-  const int sizes[][2] = {{48, 40}, {72, 56}, {40, 72}, {100, 24}};
+  const int sizes[][2] = {{48, 40}, {72, 56}, {40, 72}, {100, 24}, {180, 150}};
   int compared = 0;
   for (int round = 0; round < 10; ++round)
     for (const auto& s : sizes) {
+      if (s[0] == 180 && round % 4 != 0) continue;  // brute force is slow there
       const auto m = random_mask(rng, s[0], s[1], 0.08);
       check_against_brute_force(m.view());
       ++compared;
     }
-  CHECK(compared == 40);
+  CHECK(compared == 43);
+}
+
+TEST_CASE("windowed nearest-site search equals brute force, vector and one pixel at a time") {
+  // Runs of 3-300 sites, background at both ends, heights from 0 to far above the run; the
+  // search takes the least reach the distance transform would give it, or any larger one.
+  std::mt19937 rng(1126);
+  std::vector<std::uint32_t> g, vector_out, scalar_out;
+  std::vector<std::int16_t> scratch;
+  int compared = 0;
+  for (int round = 0; round < 4000; ++round) {
+    const int m = 3 + static_cast<int>(rng() % 298);
+    const auto top = static_cast<std::uint32_t>(1 + rng() % (round % 3 == 0 ? 8 : 200));
+    g.assign(static_cast<std::size_t>(m), 0);
+    for (int u = 1; u + 1 < m; ++u)
+      g[static_cast<std::size_t>(u)] = static_cast<std::uint32_t>(rng() % (top + 1));
+    int reach = 0;
+    for (int u = 1; u + 1 < m; ++u)
+      reach = std::max(reach,
+                       std::min({static_cast<int>(g[static_cast<std::size_t>(u)]), u, m - 1 - u}));
+    if (reach > perch::detail::window_reach_limit) continue;
+    if (round % 2 == 1)
+      reach += static_cast<int>(
+          rng() % static_cast<unsigned>(perch::detail::window_reach_limit - reach + 1));
+    scratch.assign(perch::detail::window_scratch(static_cast<std::size_t>(m)), 0);
+    vector_out.assign(static_cast<std::size_t>(m), 7);
+    scalar_out.assign(static_cast<std::size_t>(m), 7);
+    perch::detail::nearest_sites_window(g.data(), m, reach, scratch.data(), vector_out.data());
+    perch::detail::nearest_sites_window<false>(g.data(), m, reach, scratch.data(),
+                                               scalar_out.data());
+    bool same = vector_out[0] == 7 && vector_out[static_cast<std::size_t>(m - 1)] == 7;
+    for (int u = 1; u + 1 < m; ++u) {
+      std::uint64_t best = ~std::uint64_t{0};
+      for (int i = 0; i < m; ++i) {
+        const std::uint64_t gi = g[static_cast<std::size_t>(i)];
+        best = std::min(best, static_cast<std::uint64_t>((u - i) * (u - i)) + gi * gi);
+      }
+      same = same && vector_out[static_cast<std::size_t>(u)] == best &&
+             scalar_out[static_cast<std::size_t>(u)] == best;
+    }
+    INFO("m = " << m << ", reach = " << reach);
+    REQUIRE(same);
+    ++compared;
+  }
+  CHECK(compared > 3500);
 }
 
 TEST_CASE("distance_transform_sq: columns 2^16 pixels deep (a height whose square wraps)") {

@@ -41,8 +41,9 @@ struct distance_options {
 /// given back before the call returns.
 [[nodiscard]] constexpr std::size_t distance_workspace_bytes(int width, int height) noexcept {
   if (width <= 0 || height <= 0) return 0;
-  return 6 * workspace::footprint<std::uint32_t>(static_cast<std::size_t>(width) + 2) +
-         workspace::footprint<double>(static_cast<std::size_t>(width) + 2);
+  const std::size_t n = static_cast<std::size_t>(width) + 2;
+  return 6 * workspace::footprint<std::uint32_t>(n) + workspace::footprint<double>(n) +
+         workspace::footprint<std::int16_t>(detail::window_scratch(n));
 }
 
 namespace detail {
@@ -71,7 +72,8 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
   auto site = ws.allocate<std::int32_t>(n);
   auto near_row = ws.allocate<std::int32_t>(n);
   auto inverse_twice = ws.allocate<double>(n);
-  if (!down || !g_int || !g_real || !s || !t || !site || !near_row || !inverse_twice) {
+  auto window = ws.allocate<std::int16_t>(detail::window_scratch(n));
+  if (!down || !g_int || !g_real || !s || !t || !site || !near_row || !inverse_twice || !window) {
     ws.rewind(entry);
     const bool short_of_room =
         (!down && down.error().code == errc::workspace_too_small) ||
@@ -81,7 +83,8 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
         (!t && t.error().code == errc::workspace_too_small) ||
         (!site && site.error().code == errc::workspace_too_small) ||
         (!near_row && near_row.error().code == errc::workspace_too_small) ||
-        (!inverse_twice && inverse_twice.error().code == errc::workspace_too_small);
+        (!inverse_twice && inverse_twice.error().code == errc::workspace_too_small) ||
+        (!window && window.error().code == errc::workspace_too_small);
     if (short_of_room)
       return fail(errc::workspace_too_small, "distance_transform",
                   used_at_entry + distance_workspace_bytes(w, h));
@@ -157,6 +160,7 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
         std::uint32_t* g = g_int->data();
         g[0] = 0;
         g[sites - 1] = 0;
+        std::uint32_t reach = 0;  // see nearest_sites_window
         for (int u = 1; u + 1 < sites; ++u) {
           const int c = a - 1 + u;
           const std::uint32_t up = d[c];
@@ -165,9 +169,14 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
           if constexpr (Out == edt_output::nearest)
             nr[u] = from_above ? y - static_cast<std::int32_t>(up)
                                : y + static_cast<std::int32_t>(dn[c]);
+          const auto end_near = static_cast<std::uint32_t>(u < sites - 1 - u ? u : sites - 1 - u);
+          const std::uint32_t r = g[u] < end_near ? g[u] : end_near;
+          reach = r > reach ? r : reach;
         }
-        if (Out == edt_output::squared && sites <= detail::short_run_sites) {
-          detail::nearest_sites_short(g, sites, d + (a - 1));
+        if (Out == edt_output::squared &&
+            reach <= static_cast<std::uint32_t>(detail::window_reach_max)) {
+          detail::nearest_sites_window(g, sites, static_cast<int>(reach), window->data(),
+                                       d + (a - 1));
         } else {
           const auto needed = static_cast<std::size_t>(sites);
           if (needed > inverses_ready) {

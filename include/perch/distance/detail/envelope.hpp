@@ -1,12 +1,16 @@
 /// \file
 /// Private helpers of the distance stage: the lower envelope of parabolas of one foreground run
-/// (the second phase of Meijster, Roerdink & Hesselink 2000), and a direct search that gives the
-/// same distances on short runs.
+/// (the second phase of Meijster, Roerdink & Hesselink 2000), and a direct search within a
+/// bounded reach that gives the same distances where the limb crossed by the run is thin.
 #pragma once
 
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace perch::detail {
 
@@ -77,32 +81,79 @@ inline void envelope_sq(const std::uint32_t* g, int m, std::int32_t* s, std::int
   }
 }
 
-/// Runs of at most this many sites (thin limbs crossed by a row) take `nearest_sites_short`
-/// (measured: EDT of the 1920×1080 tree mask 1.91 → 1.74 ms; 12, 20, 48 and 64 gain less).
-inline constexpr int short_run_sites = 32;
+/// The largest `reach` `nearest_sites_window` takes: its sums stay below 2^15.
+inline constexpr int window_reach_limit = 120;
 
-/// The minimum of (u − i)² + g[i]² over the sites i of a short run (`m` sites, the first and last
-/// background), written to `out[u]` for u in [1, m − 1): a search outward from u, which stops
-/// once the offset alone costs as much as the best so far (the background sites 0 and m − 1
-/// bound it from the start). No division; for short runs cheaper than building the envelope.
-/// `m` ≤ `short_run_sites`.
-inline void nearest_sites_short(std::uint32_t* g, int m, std::uint32_t* out) noexcept {
-  // Heights are capped at 2^16 − 1 before squaring (a column 2^16 pixels deep would wrap to
-  // 0): a run has at most 32 sites, so no capped site can be nearest (best ≤ 16²).
-  constexpr std::uint32_t high = 0xFFFFu;
-  for (int u = 1; u + 1 < m; ++u) g[u] = g[u] < high ? g[u] : high;
-  for (int u = 1; u + 1 < m; ++u) {
-    const auto left = static_cast<std::uint32_t>(u);
-    const auto right = static_cast<std::uint32_t>(m - 1 - u);
-    std::uint32_t best = left < right ? left * left : right * right;
-    for (int k = 0; static_cast<std::uint32_t>(k * k) < best; ++k) {
-      const auto k2 = static_cast<std::uint32_t>(k * k);
-      const std::uint32_t below = g[u - k];
-      const std::uint32_t above = g[u + k];
-      const std::uint32_t v = k2 + (below < above ? below * below : above * above);
+/// Runs whose reach (see `nearest_sites_window`) is at most this take the windowed search
+/// instead of the envelope: 2·reach + 1 steps per eight pixels (one per pixel without SSE2)
+/// against the envelope's few per pixel.
+#if defined(__SSE2__)
+inline constexpr int window_reach_max = 32;
+#else
+inline constexpr int window_reach_max = 6;
+#endif
+
+/// Slots of int16 scratch `nearest_sites_window` needs for a run of `m` sites.
+[[nodiscard]] constexpr std::size_t window_scratch(std::size_t m) noexcept {
+  return m + 2 * static_cast<std::size_t>(window_reach_limit) + 16;
+}
+
+/// The minimum of (u − i)² + g[i]² over the sites i of a run (`m` sites, the first and last
+/// background), written to `out[u]` for u in [1, m − 1), when `reach` ≥ min(g[u], u, m − 1 − u)
+/// for every such u. Then the nearest site of u is within `reach` of it (site u itself and
+/// the two background ends already bound the minimum by that squared), and a site higher than
+/// `reach` is never nearest, so heights are capped at reach + 1 and every sum fits in 16 bits:
+/// each pixel takes the minimum over the 2·reach + 1 offsets, eight pixels at a time with SSE2
+/// (saturating 16-bit adds and minima; `Vector` false: one pixel at a time, as without SSE2).
+/// No division. `reach` ≤ `window_reach_limit`; `scratch` has `window_scratch(m)` slots.
+template <bool Vector = true>
+inline void nearest_sites_window(const std::uint32_t* g, int m, int reach, std::int16_t* scratch,
+                                 std::uint32_t* out) noexcept {
+  constexpr std::int16_t far = 0x7FFF;  // a site that does not exist
+  const auto cap = static_cast<std::uint32_t>(reach + 1);
+  // scratch[reach + i] = min(g[i], reach + 1)² for the sites, `far` around them.
+  std::int16_t* h = scratch + reach;
+  for (int i = -reach; i < 0; ++i) h[i] = far;
+  for (int i = 0; i < m; ++i) {
+    const std::uint32_t gi = g[i] < cap ? g[i] : cap;
+    h[i] = static_cast<std::int16_t>(gi * gi);
+  }
+  for (int i = m; i < m + reach + 8; ++i) h[i] = far;
+  int u = 1;
+#if defined(__SSE2__)
+  if constexpr (Vector) {
+    auto eight = [&](int first) {  // the minima of pixels first … first + 7
+      __m128i best = _mm_set1_epi16(far);
+      for (int k = -reach; k <= reach; ++k) {
+        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(h + first + k));
+        best = _mm_min_epi16(best,
+                             _mm_adds_epi16(v, _mm_set1_epi16(static_cast<std::int16_t>(k * k))));
+      }
+      return best;
+    };
+    const __m128i zero = _mm_setzero_si128();
+    auto store = [&](std::uint32_t* to, __m128i best) {
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(to), _mm_unpacklo_epi16(best, zero));
+      _mm_storeu_si128(reinterpret_cast<__m128i*>(to + 4), _mm_unpackhi_epi16(best, zero));
+    };
+    if (m - 2 >= 8) {
+      for (; u + 8 <= m - 1; u += 8) store(out + u, eight(u));
+      if (u < m - 1) store(out + (m - 9), eight(m - 9));  // the last eight again, overlapping
+      return;
+    }
+    std::uint32_t few[8];
+    store(few, eight(1));
+    for (; u < m - 1; ++u) out[u] = few[u - 1];
+    return;
+  }
+#endif
+  for (; u < m - 1; ++u) {
+    int best = far;
+    for (int k = -reach; k <= reach; ++k) {
+      const int v = h[u + k] + k * k;
       best = v < best ? v : best;
     }
-    out[u] = best;
+    out[u] = static_cast<std::uint32_t>(best);
   }
 }
 
