@@ -273,8 +273,9 @@ TEST_CASE("windowed nearest-site search equals brute force, vector and one pixel
 }
 
 TEST_CASE("distance_transform_sq: columns 2^16 pixels deep (a height whose square wraps)") {
-  // A strip three pixels wide down a 5 × 140 000 image: rows take the short-run search, whose
-  // column heights reach 65 536 (and 74 464 from below), where a 32-bit square is 0. Every
+  // A strip three pixels wide down a 5 × 140 000 image: rows take the windowed search, whose
+  // column heights reach 65 536 (and 74 464 from below), where a 32-bit square is 0 (it caps
+  // them at its reach + 1 before squaring). Every
   // strip pixel is 1 from the side background (4 in the middle column) or nearer the ends.
   const int w = 5, h = 140000;
   image<std::uint8_t> m(w, h);
