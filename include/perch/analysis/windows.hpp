@@ -115,8 +115,6 @@ template <ScalePolicy Scale>
     std::size_t a = index_at(start);
     std::size_t b = last_at(start + length_px);
     if (b <= a) continue;
-    // Local scale (depth): measured on this window's pixels in image coordinates, then the
-    // window is re-cut to one drone width at that scale.
     // Local scale (depth): measured on this window's pixels; the window is then re-cut to one
     // drone width at that scale and measured again for its position.
     auto local_at = [&](std::size_t first, std::size_t last) {
