@@ -114,8 +114,8 @@ struct medial_axis {
     if (cells >= 0x7FFFFFFFu) return fail(errc::image_too_large, "medial_axis: too many pixels");
     const auto peeling = ws.mark();
     const status peeled = in_place && dist2.stride() == img.stride
-                              ? peel(img, ws, cap, distances_by_index{dist2.data()})
-                              : peel(img, ws, cap, distances_by_position{&img, dist2});
+                              ? peel(img, cells, ws, cap, distances_by_index{dist2.data()})
+                              : peel(img, cells, ws, cap, distances_by_position{&img, dist2});
     ws.rewind(peeling);
     if (!peeled) return peeled;
     if (thinness == perch::thinness::one_pixel) {
@@ -154,13 +154,14 @@ struct medial_axis {
   /// slice, then the ring; and the pixels to come sit in an array, fetched well ahead.
   /// A queued pixel carries the `queued` flag in the working image; a pixel popped and kept
   /// re-enters at the current key when a neighbour is deleted (its own is not above it).
+  /// `cells`: the working image's pixels, frame included.
   template <class Distances>
-  [[nodiscard]] static status peel(const detail::padded_image& img, workspace& ws,
-                                   std::uint32_t cap, Distances distances) noexcept {
+  [[nodiscard]] static status peel(const detail::padded_image& img, std::size_t cells,
+                                   workspace& ws, std::uint32_t cap, Distances distances) noexcept {
     std::uint8_t* px = img.px;
-    const std::size_t ring_size = img.pixels + 1;
+    const std::size_t ring_size = img.pixels + 1;  // more than can be queued at once
     auto fill_memory = ws.allocate<std::uint32_t>(std::size_t{cap} + 2);
-    auto order_memory = ws.allocate<std::uint32_t>(ring_size);
+    auto order_memory = ws.allocate<std::uint32_t>(img.pixels);
     auto ring_memory = ws.allocate<std::uint32_t>(ring_size);
     if (!fill_memory) return unexpected{fill_memory.error()};
     if (!order_memory) return unexpected{order_memory.error()};
@@ -170,9 +171,7 @@ struct medial_axis {
     std::uint32_t* ring = ring_memory->data();
     std::uint32_t* copy = nullptr;
     if constexpr (Distances::copied) {
-      auto copy_memory =
-          ws.allocate<std::uint32_t>(static_cast<std::size_t>(img.stride) *
-                                     static_cast<std::size_t>(img.height + 2 * img.pad));
+      auto copy_memory = ws.allocate<std::uint32_t>(cells);
       if (!copy_memory) return unexpected{copy_memory.error()};
       copy = copy_memory->data();
     }
@@ -211,14 +210,13 @@ struct medial_axis {
           ring[border++] = static_cast<std::uint32_t>(i);
       if (last > first) ring[border++] = static_cast<std::uint32_t>(last);
     });
-    auto start_memory = ws.allocate<std::uint32_t>(std::size_t{top_key} + 2);
+    auto start_memory = ws.allocate<std::uint32_t>(std::size_t{top_key} + 1);
     if (!start_memory) return unexpected{start_memory.error()};
     std::uint32_t* start = start_memory->data();  // per key: the beginning of its slice
     for (std::uint32_t k = 0; k <= top_key; ++k) {
       fill[k + 1] += fill[k];
       start[k] = fill[k];
     }
-    start[top_key + 1] = fill[top_key + 1];
     for (std::size_t b = 0; b < border; ++b) {
       const std::uint32_t i = ring[b];
       px[i] |= queued;
