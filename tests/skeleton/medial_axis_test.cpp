@@ -288,3 +288,39 @@ TEST_CASE(
   REQUIRE(perch::medial_axis{}(mask.view(), zeros.view(), out.view(), ws));
   CHECK(to_ascii(out.view()) == expected);
 }
+
+TEST_CASE("medial_axis: the packed peeling gives the skeletons of the byte image") {
+  // `packed_from = 0` peels every image in the packed copy (flags and key in two bytes, keys of
+  // 0x3FFF and more looked up in the map): same skeletons, in place and padded, with true maps
+  // and random ones whose keys cross the packed range (images of 256 px and more can hold them).
+  std::mt19937 rng(4099);
+  workspace ws;
+  int large_keys = 0;
+  for (int round = 0; round < 240; ++round) {
+    const bool large = round % 8 == 7;
+    const int w = large ? 256 + static_cast<int>(rng() % 64) : 3 + static_cast<int>(rng() % 40);
+    const int h = large ? 256 + static_cast<int>(rng() % 64) : 3 + static_cast<int>(rng() % 40);
+    const bool frame = round % 2 == 0;
+    image<std::uint8_t> m(w, h);
+    std::bernoulli_distribution ink(std::uniform_real_distribution<double>(0.3, 0.98)(rng));
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        m(x, y) = (frame && (x == 0 || y == 0 || x == w - 1 || y == h - 1)) || !ink(rng) ? 0 : 1;
+    image<std::uint32_t> d2(w, h);
+    REQUIRE(perch::distance_transform_sq(m.view(), d2.view(), ws));
+    if (round % 3 != 0)
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          d2(x, y) = round % 3 == 1 ? static_cast<std::uint32_t>(rng() % 100000)
+                                    : 0x3FF0u + static_cast<std::uint32_t>(rng() % 32);
+          large_keys += m(x, y) != 0 && d2(x, y) >= 0x3FFFu && large;
+        }
+    image<std::uint8_t> bytes(w, h, 7), packed(w, h, 7);
+    REQUIRE(perch::medial_axis{}(m.view(), d2.view(), bytes.view(), ws));
+    REQUIRE(perch::medial_axis{.packed_from = 0}(m.view(), d2.view(), packed.view(), ws));
+    INFO("round " << round << ", mask:\n" << to_ascii(m.view()));
+    CHECK(to_ascii(packed.view()) == to_ascii(bytes.view()));
+    CHECK(ws.used() == 0);
+  }
+  CHECK(large_keys > 100000);
+}

@@ -139,6 +139,14 @@ inline constexpr neighbourhood_table deletable_table = make_deletable_table();
   return table;
 }
 
+/// `padded_image::pairs` of the pixel at `p` in rows `stride` bytes apart.
+[[nodiscard]] inline unsigned neighbour_pairs(const std::uint8_t* p,
+                                              std::ptrdiff_t stride) noexcept {
+  const std::ptrdiff_t s = stride;
+  return static_cast<unsigned>(p[-s] | p[-s + 1] << 2 | p[1] << 4 | p[s + 1] << 6 | p[s] << 8 |
+                               p[s - 1] << 10 | p[-1] << 12 | p[-s - 1] << 14);
+}
+
 /// The working image, one byte per pixel with a background frame: either a padded copy,
 /// (width + 2) × (height + 2) bytes with pixel (x, y) at index (y + 1)·stride + x + 1
 /// (`pad` = 1), or the caller's output itself when the mask's outermost rows and columns are
@@ -175,10 +183,7 @@ struct padded_image {
   /// 2k and 2k + 1), when every byte is 0, 1 or 3 (foreground and bit 1 as a flag): its
   /// `code` is `even_bits(pairs(i))`.
   [[nodiscard]] unsigned pairs(std::ptrdiff_t i) const noexcept {
-    const std::uint8_t* p = px + i;
-    const std::ptrdiff_t s = stride;
-    return static_cast<unsigned>(p[-s] | p[-s + 1] << 2 | p[1] << 4 | p[s + 1] << 6 | p[s] << 8 |
-                                 p[s - 1] << 10 | p[-1] << 12 | p[-s - 1] << 14);
+    return neighbour_pairs(px + i, stride);
   }
   /// True when a 4-neighbour of `i` is background.
   [[nodiscard]] bool on_border(std::ptrdiff_t i) const noexcept {
