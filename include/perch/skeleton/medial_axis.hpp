@@ -252,24 +252,26 @@ struct medial_axis {
     }
     const std::uint32_t* keys = copy;
     if constexpr (!Distances::copied) keys = distances.d;
-    // The packed copy is read at the tree pixels and their neighbours only: those that are
-    // background are zeroed (three rows around each run), the tree pixels filled below.
-    if (cell != nullptr) {
-      detail::for_each_run(img, [&](std::ptrdiff_t first, std::ptrdiff_t end) {
-        for (const std::ptrdiff_t row : {-img.stride, std::ptrdiff_t{0}, img.stride})
-          for (std::ptrdiff_t i = first + row - 1; i <= end + row; ++i) cell[i] = 0;
-      });
-    }
-
     // One pass over the runs: the keys counted (into fill[k + 1]; copied, packed if need be)
     // and the border pixels listed in raster order (in `ring`, for now): each run's two ends,
     // and between them the pixels below or above background, found eight at a time.
+    // The packed copy is read at the tree pixels and their neighbours only: around a run, the
+    // row below is zeroed (its runs come later), the row above where it is background, the
+    // two ends, and then the run's own cells are filled.
     std::uint32_t top_key = 0;
     std::size_t border = 0;
     fill[0] = 0;
     fill[1] = 0;
     detail::for_each_run(img, [&](std::ptrdiff_t first, std::ptrdiff_t end) {
       const std::uint32_t* d = distances.run(first);
+      if (cell != nullptr) {
+        const std::ptrdiff_t s = img.stride;
+        for (std::ptrdiff_t i = first - s - 1; i <= end - s; ++i)
+          cell[i] = static_cast<std::uint16_t>(cell[i] & (0u - (px[i] & 1u)));
+        for (std::ptrdiff_t i = first + s - 1; i <= end + s; ++i) cell[i] = 0;
+        cell[first - 1] = 0;
+        cell[end] = 0;
+      }
       for (std::ptrdiff_t i = first; i < end; ++i) {
         if constexpr (Distances::copied) copy[i] = d[i - first];
         const std::uint32_t k = clamped(keys, cap, i);
