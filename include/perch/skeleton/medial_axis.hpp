@@ -100,9 +100,9 @@ struct medial_axis {
   static constexpr std::uint32_t packed_key_max = 0x3FFF;  ///< packed keys from here: look up
   static constexpr std::size_t packed_slack = 2;  ///< a row of 4 cells read from the last pixel
 
-  [[nodiscard]] static std::uint32_t clamped(const std::uint32_t* keys, std::uint32_t cap,
-                                             std::ptrdiff_t i) noexcept {
-    return keys[i] < cap ? keys[i] : cap;
+  /// The key of a distance: the distance, clamped to `cap`.
+  [[nodiscard]] static std::uint32_t key_of(std::uint32_t dist2, std::uint32_t cap) noexcept {
+    return dist2 < cap ? dist2 : cap;
   }
 
   /// What the peeling reads and writes of a pixel, in the working image (flags: bit 0
@@ -120,7 +120,7 @@ struct medial_axis {
     void erase(std::uint32_t i) const noexcept { px[i] = 0; }
     void mark(std::ptrdiff_t i) const noexcept { px[i] |= queued; }
     [[nodiscard]] std::uint32_t key(std::ptrdiff_t i) const noexcept {
-      return clamped(keys, cap, i);
+      return key_of(keys[i], cap);
     }
     /// The cache lines a visit of `i` reads (to fetch ahead).
     [[nodiscard]] std::array<const void*, 6> lines(std::uint32_t i) const noexcept {
@@ -129,11 +129,12 @@ struct medial_axis {
     }
   };
   /// The same in the packed copy: per pixel, the flags in bits 0 and 1 and the key above them
-  /// (`packed_key_max` for a key that large or larger: then read where it is).
+  /// (`packed_key_max` for a key that large or larger: then read from `dist2`).
+  template <class Distances>
   struct packed {
     std::uint16_t* cell;
     std::ptrdiff_t stride;
-    const std::uint32_t* keys;
+    Distances dist2;
     std::uint32_t cap;
     [[nodiscard]] unsigned pairs(std::uint32_t i) const noexcept {
       // Each row as four cells from the west neighbour's: cell c's flags in bits 16c, 16c + 1.
@@ -150,7 +151,7 @@ struct medial_axis {
     void mark(std::ptrdiff_t i) const noexcept { cell[i] |= queued; }
     [[nodiscard]] std::uint32_t key(std::ptrdiff_t i) const noexcept {
       const std::uint32_t k = cell[i] >> 2u;
-      return k < packed_key_max ? k : clamped(keys, cap, i);
+      return k < packed_key_max ? k : key_of(*dist2.run(i), cap);
     }
     [[nodiscard]] std::array<const void*, 3> lines(std::uint32_t i) const noexcept {
       return {cell + i - stride, cell + i, cell + i + stride};
@@ -199,8 +200,8 @@ struct medial_axis {
 
   /// Where the distances of a run of the working image starting at pixel `i` are: at the same
   /// index when `dist2` is laid out like the working image, else found from the run's position
-  /// (a run lies in one row of both images), and then copied into an array laid out like the
-  /// working image for the peeling to read by index.
+  /// (a run lies in one row of both images), and then, for the byte image's peeling, copied
+  /// into an array laid out like the working image to be read by index.
   struct distances_by_index {
     const std::uint32_t* d;
     static constexpr bool copied = false;
@@ -244,8 +245,9 @@ struct medial_axis {
     std::uint32_t* order = order_memory->data();
     std::uint32_t* ring = ring_memory->data();
     std::uint16_t* cell = packing ? packed_memory->data() : nullptr;
+    // The byte image's peeling reads the distances by index: copied if need be.
     std::uint32_t* copy = nullptr;
-    if constexpr (Distances::copied) {
+    if (Distances::copied && !packing) {
       auto copy_memory = ws.allocate<std::uint32_t>(cells);
       if (!copy_memory) return unexpected{copy_memory.error()};
       copy = copy_memory->data();
@@ -273,8 +275,8 @@ struct medial_axis {
         cell[end] = 0;
       }
       for (std::ptrdiff_t i = first; i < end; ++i) {
-        if constexpr (Distances::copied) copy[i] = d[i - first];
-        const std::uint32_t k = clamped(keys, cap, i);
+        if (copy != nullptr) copy[i] = d[i - first];
+        const std::uint32_t k = key_of(d[i - first], cap);
         if (cell != nullptr)
           cell[i] =
               static_cast<std::uint16_t>((k < packed_key_max ? k : packed_key_max) << 2u | 1u);
@@ -309,7 +311,7 @@ struct medial_axis {
       drain(in_image{px, img.stride, keys, cap}, img, queue, border);
       return {};
     }
-    drain(packed{cell, img.stride, keys, cap}, img, queue, border);
+    drain(packed<Distances>{cell, img.stride, distances, cap}, img, queue, border);
     detail::for_each_run(img, [&](std::ptrdiff_t first, std::ptrdiff_t end) {
       for (std::ptrdiff_t i = first; i < end; ++i) px[i] = static_cast<std::uint8_t>(cell[i] & 1u);
     });
