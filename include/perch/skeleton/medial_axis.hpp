@@ -266,6 +266,17 @@ struct medial_axis {
     fill[1] = 0;
     detail::for_each_run(img, [&](std::ptrdiff_t first, std::ptrdiff_t end) {
       const std::uint32_t* d = distances.run(first);
+      // Fetched ahead (the runs a few rows down lie mostly under this one): the distances two
+      // rows down, read by index, and the packed cells three rows down, first written from
+      // two rows down.
+      const std::ptrdiff_t s2 = 2 * img.stride;
+      if (static_cast<std::size_t>(end + s2 + img.stride + 1) < cells) {
+        if constexpr (!Distances::copied)
+          for (std::ptrdiff_t i = first + s2; i < end + s2; i += 16) detail::prefetch(keys + i);
+        if (cell != nullptr)
+          for (std::ptrdiff_t i = first + s2 + img.stride - 1; i <= end + s2 + img.stride; i += 32)
+            detail::prefetch(cell + i);
+      }
       if (cell != nullptr) {
         const std::ptrdiff_t s = img.stride;
         for (std::ptrdiff_t i = first - s - 1; i <= end - s; ++i)
