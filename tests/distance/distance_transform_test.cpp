@@ -294,6 +294,37 @@ TEST_CASE("distance_transform_sq: columns 2^16 pixels deep (a height whose squar
   CHECK(wrong == 0);
 }
 
+TEST_CASE(
+    "distance_transform_sq: an image of 4 Mpx and more (rows fetched ahead) is tile by tile") {
+  // From `detail::fetch_ahead_from` pixels on, both passes fetch rows ahead. A 2100 × 2100 image
+  // of 15 × 15 tiles, each a random mask with a background frame of its own (so its distances
+  // depend on it alone), must give every tile's own transform, background and runs alike.
+  constexpr int tile_w = 140, tile_h = 140, tiles = 15;
+  static_assert(std::size_t{tile_w * tiles} * std::size_t{tile_h * tiles} >=
+                perch::detail::fetch_ahead_from);
+  std::mt19937 rng(4242);
+  std::vector<image<std::uint8_t>> masks;
+  image<std::uint8_t> big(tile_w * tiles, tile_h * tiles, 0);
+  for (int t = 0; t < tiles * tiles; ++t) {
+    auto m = random_mask(rng, tile_w, tile_h, t % 2 == 0 ? 0.7 : 0.1);
+    for (int y = 0; y < tile_h; ++y)
+      for (int x = 0; x < tile_w; ++x) {
+        if (x == 0 || y == 0 || x == tile_w - 1 || y == tile_h - 1) m(x, y) = 0;
+        big((t % tiles) * tile_w + x, (t / tiles) * tile_h + y) = m(x, y);
+      }
+    masks.push_back(std::move(m));
+  }
+  const auto d = fast_sq(big.view());
+  int wrong = 0;
+  for (int t = 0; t < tiles * tiles; ++t) {
+    const auto own = fast_sq(masks[static_cast<std::size_t>(t)].view());
+    for (int y = 0; y < tile_h; ++y)
+      for (int x = 0; x < tile_w; ++x)
+        wrong += d((t % tiles) * tile_w + x, (t / tiles) * tile_h + y) == own(x, y) ? 0 : 1;
+  }
+  CHECK(wrong == 0);
+}
+
 TEST_CASE("distance_transform: anisotropic real distances equal brute force") {
   std::mt19937 rng(7);
   for (int round = 0; round < 400; ++round) {
