@@ -276,3 +276,32 @@ TEST_CASE("measures: a twig attached across the branch does not widen its cross-
   CHECK(diameter[40] <= 6.0f + 1.5f + 5.5f + 1e-4f);
   CHECK(diameter[40] > 12.0f);
 }
+
+TEST_CASE(
+    "measures: a cross-section in a large mask (edges fetched ahead) reads as in a small one") {
+  // From `detail::fetch_ahead_from` pixels on, the walk fetches the edges of the cross-section
+  // eight points on. The twig mask above, placed far inside a 2100 x 2100 mask, gives the same
+  // diameters as on its own.
+  perch::image<std::uint8_t> small(120, 100, 0);
+  for (int x = 0; x < 120; ++x)
+    for (int y = 45; y <= 55; ++y) small(x, y) = 1;
+  for (int y = 10; y < 45; ++y)
+    for (int x = 59; x <= 61; ++x) small(x, y) = 1;
+  perch::image<std::uint8_t> large(2100, 2100, 0);
+  static_assert(std::size_t{2100} * 2100 >= perch::detail::fetch_ahead_from);
+  constexpr int dx = 1500, dy = 1800;
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 120; ++x) large(x + dx, y + dy) = small(x, y);
+  std::vector<perch::pixel> line, moved;
+  for (int x = 2; x <= 117; ++x) {
+    const int y = 50 + (x % 7) / 3;  // a wobble: the normals turn
+    line.push_back({x, y});
+    moved.push_back({x + dx, y + dy});
+  }
+  const std::vector<float> radius(line.size(), 6.0f);
+  std::vector<float> a(line.size()), b(line.size());
+  perch::cross_section_diameters(small.view(), line, radius, a);
+  perch::cross_section_diameters(large.view(), moved, radius, b);
+  CHECK(a == b);
+  CHECK(a[10] > 10.0f);
+}

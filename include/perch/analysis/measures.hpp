@@ -11,7 +11,9 @@
 #include "perch/analysis/attitude.hpp"
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
+#include "perch/core/prefetch.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/row_scan.hpp"
 
 namespace perch {
 
@@ -261,7 +263,28 @@ void cross_section_diameters(const Mask& mask, std::span<const pixel> points,
   const auto n = static_cast<std::ptrdiff_t>(points.size());
   const std::ptrdiff_t k = std::max(1, normal_half_span);
   constexpr float step = 0.25f;
+  // On a large mask, the edges of the cross-section eight points on are fetched ahead (where
+  // they lie if the normal there is about this one's, 1.2 d out), each in rows of its own.
+  constexpr std::ptrdiff_t ahead = 8;
+  const bool fetch_ahead =
+      static_cast<std::size_t>(mask.width()) * static_cast<std::size_t>(mask.height()) >=
+      detail::fetch_ahead_from;
   for (std::ptrdiff_t i = 0; i < n; ++i) {
+    if (fetch_ahead && i + ahead < n) {
+      const pixel a = points[static_cast<std::size_t>(i + ahead)];
+      const pixel lo = points[static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, i + ahead - k))];
+      const pixel hi = points[static_cast<std::size_t>(std::min(n - 1, i + ahead + k))];
+      const float reach = 1.2f * radius_px[static_cast<std::size_t>(i + ahead)];
+      const auto cx = static_cast<float>(hi.x - lo.x), cy = static_cast<float>(hi.y - lo.y);
+      const float l1 = std::abs(cx) + std::abs(cy);  // ≥ the chord's length: inside, at worst
+      if (l1 > 0) {
+        for (const float side : {reach / l1, -reach / l1}) {
+          const int x = std::clamp(a.x - static_cast<int>(side * cy), 0, mask.width() - 1);
+          const int y = std::clamp(a.y + static_cast<int>(side * cx), 0, mask.height() - 1);
+          detail::prefetch(detail::row_pointer(mask, y) + x);
+        }
+      }
+    }
     const pixel lo = points[static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, i - k))];
     const pixel hi = points[static_cast<std::size_t>(std::min(n - 1, i + k))];
     const pixel c = points[static_cast<std::size_t>(i)];

@@ -25,6 +25,11 @@ PERCH_PREFETCH_INLINE void prefetch(const void* p) noexcept {
 #endif
 }
 
+/// Images of at least this many pixels fetch ahead where a pass jumps from row to row: below
+/// that, the working set mostly stays in the last-level cache and the hints cost more than they
+/// save (measured at 1920 × 1080 and 4000 × 3000 with a 16 MB cache).
+inline constexpr std::size_t fetch_ahead_from = std::size_t{1} << 22;
+
 /// A hint to fetch the cache lines holding the `n` elements from `first` (64-byte lines).
 template <class T>
 PERCH_PREFETCH_INLINE void prefetch_span(const T* first, std::ptrdiff_t n) noexcept {
