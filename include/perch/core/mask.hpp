@@ -79,7 +79,15 @@ struct prepared_mask {
   const auto w = static_cast<std::size_t>(scaled_extent(box_width, factor) + 3);
   const auto h = static_cast<std::size_t>(scaled_extent(box_height, factor) + 3);
   std::size_t bytes = workspace::footprint<std::uint8_t>(w * h);
-  if (factor < 1.0f) bytes += workspace::footprint<float>(static_cast<std::size_t>(box_width) + 2);
+  if (factor < 1.0f) {  // the column sums, and the spans' weights, first columns and widths
+    // The input columns under the analysed ones reach up to 1 / factor + 1 past the box.
+    const auto reach = static_cast<std::size_t>(std::ceil(1.0 / static_cast<double>(factor)));
+    const std::size_t columns = static_cast<std::size_t>(box_width) + 2 * reach + 3;
+    const std::size_t spans = w;
+    bytes += workspace::footprint<float>(columns) + workspace::footprint<double>(columns + spans) +
+             2 * workspace::footprint<std::int32_t>(spans + 1) +
+             workspace::footprint<double>(spans);
+  }
   return bytes;
 }
 
@@ -175,35 +183,61 @@ template <BinaryView Mask>
   }
 
   // Area reduction: accumulate the input rows overlapping each analysed row with their
-  // vertical overlap as weight, then integrate columns with their horizontal overlap.
+  // vertical overlap as weight (only their runs of tree), then integrate columns with their
+  // horizontal overlap. The columns' spans and overlaps are the same on every row: laid out
+  // once (consecutive spans share at most one input column, so they hold at most
+  // `columns + spans` weights).
   const int in_x0 = static_cast<int>(std::floor(ax0 * inv));
   const int in_x1 = std::min(mask.width() - 1, static_cast<int>(std::ceil((ax1 + 1) * inv)));
-  auto column = ws.allocate<float>(static_cast<std::size_t>(in_x1 - in_x0 + 1));
+  const auto columns = static_cast<std::size_t>(in_x1 - in_x0 + 1);
+  const auto spans = static_cast<std::size_t>(ax1 - ax0 + 1);
+  auto column = ws.allocate<float>(columns);
+  auto weight = ws.allocate<double>(columns + spans);
+  auto first = ws.allocate<std::int32_t>(spans + 1);  // a span's first input column
+  auto start = ws.allocate<std::int32_t>(spans + 1);  // and its first weight
+  auto width = ws.allocate<double>(spans);
   if (!column) return unexpected{column.error()};
+  if (!weight) return unexpected{weight.error()};
+  if (!first) return unexpected{first.error()};
+  if (!start) return unexpected{start.error()};
+  if (!width) return unexpected{width.error()};
   auto overlap = [](double a0, double a1, double b0, double b1) {
     return std::max(0.0, std::min(a1, b1) - std::max(a0, b0));
   };
+  std::int32_t weights = 0;
+  for (std::size_t s = 0; s < spans; ++s) {
+    const int ax = ax0 + static_cast<int>(s);
+    const double fx0 = ax * inv;
+    const double fx1 = std::min((ax + 1) * inv, static_cast<double>(mask.width()));
+    (*width)[s] = fx1 - fx0;
+    (*first)[s] = std::max(in_x0, static_cast<int>(fx0));
+    (*start)[s] = weights;
+    for (int x = (*first)[s]; x <= in_x1 && x < fx1; ++x)
+      (*weight)[static_cast<std::size_t>(weights++)] = overlap(fx0, fx1, x, x + 1.0);
+  }
+  (*start)[spans] = weights;
   for (int ay = ay0; ay <= ay1; ++ay) {
     const double fy0 = ay * inv;
     const double fy1 = std::min((ay + 1) * inv, static_cast<double>(mask.height()));
     std::fill(column->begin(), column->end(), 0.0f);
     for (int y = static_cast<int>(fy0); y < mask.height() && y < fy1; ++y) {
       const auto wy = static_cast<float>(overlap(fy0, fy1, y, y + 1.0));
-      const auto src = mask.row(y);
-      for (int x = in_x0; x <= in_x1; ++x)
-        if (static_cast<bool>(src[static_cast<std::size_t>(x)]))
-          (*column)[static_cast<std::size_t>(x - in_x0)] += wy;
+      detail::for_each_run_between(detail::row_pointer(mask, y), in_x0, in_x1 + 1,
+                                   [&](int a, int b) {
+                                     for (int x = a; x < b; ++x)
+                                       (*column)[static_cast<std::size_t>(x - in_x0)] += wy;
+                                   });
     }
     std::uint8_t* dst = &out.pixels(1, ay - ay0 + 1);
-    for (int ax = ax0; ax <= ax1; ++ax) {
-      const double fx0 = ax * inv;
-      const double fx1 = std::min((ax + 1) * inv, static_cast<double>(mask.width()));
+    for (std::size_t s = 0; s < spans; ++s) {
+      const float* c = column->data() + ((*first)[s] - in_x0);
+      const double* wx = weight->data() + (*start)[s];
+      const std::int32_t n = (*start)[s + 1] - (*start)[s];
       double tree = 0;
-      for (int x = std::max(in_x0, static_cast<int>(fx0)); x <= in_x1 && x < fx1; ++x)
-        tree += overlap(fx0, fx1, x, x + 1.0) * static_cast<double>((*column)[static_cast<std::size_t>(x - in_x0)]);
-      const double area = (fx1 - fx0) * (fy1 - fy0);
+      for (std::int32_t j = 0; j < n; ++j) tree += wx[j] * static_cast<double>(c[j]);
+      const double area = (*width)[s] * (fy1 - fy0);
       const std::uint8_t v = area > 0 && tree >= 0.5 * area ? 1 : 0;
-      dst[ax - ax0] = v;
+      dst[s] = v;
       count += v;
     }
   }
