@@ -269,27 +269,29 @@ void cross_section_diameters(const Mask& mask, std::span<const pixel> points,
   const bool fetch_ahead =
       static_cast<std::size_t>(mask.width()) * static_cast<std::size_t>(mask.height()) >=
       detail::fetch_ahead_from;
+  // The chord from point i − k to point i + k (clamped to the polyline).
+  auto chord_at = [&](std::ptrdiff_t i) {
+    const pixel lo = points[static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, i - k))];
+    const pixel hi = points[static_cast<std::size_t>(std::min(n - 1, i + k))];
+    return point2f(static_cast<float>(hi.x - lo.x), static_cast<float>(hi.y - lo.y));
+  };
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     if (fetch_ahead && i + ahead < n) {
       const pixel a = points[static_cast<std::size_t>(i + ahead)];
-      const pixel lo = points[static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, i + ahead - k))];
-      const pixel hi = points[static_cast<std::size_t>(std::min(n - 1, i + ahead + k))];
       const float reach = 1.2f * radius_px[static_cast<std::size_t>(i + ahead)];
-      const auto cx = static_cast<float>(hi.x - lo.x), cy = static_cast<float>(hi.y - lo.y);
-      const float l1 = std::abs(cx) + std::abs(cy);  // ≥ the chord's length: inside, at worst
+      const point2f ch = chord_at(i + ahead);
+      const float l1 = std::abs(ch.x()) + std::abs(ch.y());  // ≥ its length: inside, at worst
       if (l1 > 0) {
         for (const float side : {reach / l1, -reach / l1}) {
-          const int x = std::clamp(a.x - static_cast<int>(side * cy), 0, mask.width() - 1);
-          const int y = std::clamp(a.y + static_cast<int>(side * cx), 0, mask.height() - 1);
+          const int x = std::clamp(a.x - static_cast<int>(side * ch.y()), 0, mask.width() - 1);
+          const int y = std::clamp(a.y + static_cast<int>(side * ch.x()), 0, mask.height() - 1);
           detail::prefetch(detail::row_pointer(mask, y) + x);
         }
       }
     }
-    const pixel lo = points[static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, i - k))];
-    const pixel hi = points[static_cast<std::size_t>(std::min(n - 1, i + k))];
     const pixel c = points[static_cast<std::size_t>(i)];
     const float d = radius_px[static_cast<std::size_t>(i)];
-    const point2f chord(static_cast<float>(hi.x - lo.x), static_cast<float>(hi.y - lo.y));
+    const point2f chord = chord_at(i);
     const float len = chord.norm();
     if (!(len > 0) || !(d > 0.5f)) {  // a lone point: no direction to measure across
       diameter_px[static_cast<std::size_t>(i)] = perch::diameter_px(d);

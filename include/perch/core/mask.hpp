@@ -85,8 +85,8 @@ struct prepared_mask {
     const std::size_t columns = static_cast<std::size_t>(box_width) + 2 * reach + 3;
     const std::size_t spans = w;
     bytes += workspace::footprint<float>(columns) + workspace::footprint<double>(columns + spans) +
-             2 * workspace::footprint<std::int32_t>(spans + 1) +
-             workspace::footprint<double>(spans);
+             workspace::footprint<std::int32_t>(spans) +
+             workspace::footprint<std::int32_t>(spans + 1) + workspace::footprint<double>(spans);
   }
   return bytes;
 }
@@ -193,7 +193,7 @@ template <BinaryView Mask>
   const auto spans = static_cast<std::size_t>(ax1 - ax0 + 1);
   auto column = ws.allocate<float>(columns);
   auto weight = ws.allocate<double>(columns + spans);
-  auto first = ws.allocate<std::int32_t>(spans + 1);  // a span's first input column
+  auto first = ws.allocate<std::int32_t>(spans);      // a span's first input column
   auto start = ws.allocate<std::int32_t>(spans + 1);  // and its first weight
   auto width = ws.allocate<double>(spans);
   if (!column) return unexpected{column.error()};

@@ -268,7 +268,8 @@ struct medial_axis {
       const std::uint32_t* d = distances.run(first);
       // Fetched ahead (the runs a few rows down lie mostly under this one): the distances two
       // rows down, read by index, and the packed cells three rows down, first written from
-      // two rows down.
+      // two rows down. (Plain loops: with `prefetch_span` here this visitor was no longer
+      // inlined, and the pass took 1 ms more at 4000 × 3000.)
       const std::ptrdiff_t s2 = 2 * img.stride;
       if (static_cast<std::size_t>(end + s2 + img.stride + 1) < cells) {
         if constexpr (!Distances::copied)
