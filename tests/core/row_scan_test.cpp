@@ -24,19 +24,20 @@ int naive_last_set(const std::vector<std::uint8_t>& row, int from) {
 }  // namespace
 
 TEST_CASE("row scans: next_set, next_clear, last_set and binarise_row equal pixel-by-pixel loops") {
-  // Long uniform stretches (the word steps) broken by single pixels of every kind of non-zero
-  // byte (the word tests must find the exact byte, not just the word).
+  // Long uniform stretches (the 64-, 16- and 8-pixel steps) broken by single pixels of every
+  // kind of non-zero byte (the steps' tests must find the exact byte, not just the step).
   std::mt19937 rng(7);
   const std::uint8_t inks[] = {1, 0x7F, 0x80, 0xFF, 0x01, 0x81};
   int compared = 0;
   for (int round = 0; round < 400; ++round) {
-    const int w = static_cast<int>(rng() % 70);
+    const bool wide = round % 2 == 1;  // rows and stretches long enough for 64-pixel steps
+    const int w = static_cast<int>(rng() % (wide ? 300 : 70));
     std::vector<std::uint8_t> row(static_cast<std::size_t>(w) + 8, 0xAA);  // bytes past the end
     row.resize(static_cast<std::size_t>(w));
     const bool dense = rng() % 2 == 0;
     int x = 0;
     while (x < w) {
-      const int run = 1 + static_cast<int>(rng() % 20);
+      const int run = 1 + static_cast<int>(rng() % (wide ? 150 : 20));
       const bool ink = dense ? rng() % 4 != 0 : rng() % 4 == 0;
       for (int k = 0; k < run && x < w; ++k, ++x)
         row[static_cast<std::size_t>(x)] = ink ? inks[rng() % std::size(inks)] : 0;
