@@ -26,16 +26,13 @@ template <class V>
 template <class T>
 inline constexpr bool byte_pixels = sizeof(T) == 1 && std::is_integral_v<std::remove_cv_t<T>>;
 
-/// Skips pixels of a byte row from `x` while they are non-zero (`NonZero` true) or zero
-/// (`NonZero` false): with SSE2 sixteen at a time (a byte compare and its mask), stopping on the
-/// first pixel that differs; the rest in eight-pixel words (the classic has-a-zero-byte test),
-/// which on little-endian machines stop on that pixel too (the lowest flagged byte of the word
-/// that breaks the run: the test is exact there), elsewhere on that word's first pixel.
+/// `skip_words` past the first sixteen pixels: sixteen per step (with SSE2; over background,
+/// 64 per step), then eight-pixel words (the classic has-a-zero-byte test), which on
+/// little-endian machines stop on the first pixel that differs (the lowest flagged byte of the
+/// word that breaks the run: the test is exact there), elsewhere on that word's first pixel.
 template <bool NonZero, class T>
-[[nodiscard]] inline int skip_words(const T* row, int x, int width) noexcept {
-  static_assert(byte_pixels<T>);
+[[nodiscard]] inline int skip_stretch(const T* row, int x, int width) noexcept {
 #if defined(__SSE2__)
-  // Sixteen pixels per step (64 per step over background), stopping on the first that differs.
   const __m128i zero = _mm_setzero_si128();
   auto load = [row](int at) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + at)); };
   if constexpr (!NonZero)
@@ -46,8 +43,8 @@ template <bool NonZero, class T>
     }
   for (; x + 16 <= width; x += 16) {
     const auto zeros = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(load(x), zero)));
-    const unsigned differs = NonZero ? zeros : ~zeros & 0xFFFFu;
-    if (differs != 0) return x + std::countr_zero(differs);
+    const unsigned breaks = NonZero ? zeros : ~zeros & 0xFFFFu;
+    if (breaks != 0) return x + std::countr_zero(breaks);
   }
 #endif
   constexpr std::uint64_t ones = 0x0101010101010101u;
@@ -64,6 +61,26 @@ template <bool NonZero, class T>
     x += 8;
   }
   return x;
+}
+
+/// Skips pixels of a byte row from `x` while they are non-zero (`NonZero` true) or zero
+/// (`NonZero` false), stopping on the first that differs (but see `skip_stretch` for machines
+/// other than little-endian). Short runs (noise) end within the first sixteen pixels (one SSE2
+/// compare, inline); longer stretches go on in `skip_stretch`.
+template <bool NonZero, class T>
+[[nodiscard]] inline int skip_words(const T* row, int x, int width) noexcept {
+  static_assert(byte_pixels<T>);
+#if defined(__SSE2__)
+  if (x + 16 <= width) {
+    const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + x));
+    const auto zeros =
+        static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, _mm_setzero_si128())));
+    const unsigned breaks = NonZero ? zeros : ~zeros & 0xFFFFu;
+    if (breaks != 0) return x + std::countr_zero(breaks);
+    x += 16;
+  }
+#endif
+  return skip_stretch<NonZero>(row, x, width);
 }
 
 /// Index of the first non-zero pixel of `row` in [x, width), or `width`.
