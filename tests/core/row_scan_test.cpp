@@ -23,7 +23,7 @@ int naive_last_set(const std::vector<std::uint8_t>& row, int from) {
 
 }  // namespace
 
-TEST_CASE("row scans: next_set, next_clear, last_set and binarise_row equal pixel-by-pixel loops") {
+TEST_CASE("row scans (next_set, next_clear, last_set, binarise_row, count_nonzero) = naive loops") {
   // Long uniform stretches (the 64-, 16- and 8-pixel steps) broken by single pixels of every
   // kind of non-zero byte (the steps' tests must find the exact byte, not just the step).
   std::mt19937 rng(7);
@@ -46,6 +46,7 @@ TEST_CASE("row scans: next_set, next_clear, last_set and binarise_row equal pixe
     std::uint32_t expected = 0;
     for (const std::uint8_t v : row) expected += v != 0 ? 1 : 0;
     CHECK(perch::detail::binarise_row(row.data(), ones.data(), w) == expected);
+    CHECK(perch::detail::count_nonzero(row.data(), w) == expected);
     bool binarised = ones.back() == 9;  // nothing written past the row
     for (std::size_t i = 0; i < row.size(); ++i)
       binarised = binarised && ones[i] == (row[i] != 0 ? 1 : 0);

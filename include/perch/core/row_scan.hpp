@@ -163,10 +163,10 @@ inline void for_each_set_byte(std::uint64_t word, F&& f) noexcept {
   }
 }
 
-/// Writes 1 to `dst[i]` for each non-zero `src[i]` and 0 for the others, i ∈ [0, width), 16 or 8
-/// one-byte pixels at a time; returns the number of non-zero pixels.
-template <class T>
-[[nodiscard]] inline std::uint32_t binarise_row(const T* src, std::uint8_t* dst,
+/// The number of non-zero pixels of `src[0, width)`, 16 or 8 one-byte pixels at a time; with
+/// `Store`, also writes 1 to `dst[i]` for each non-zero `src[i]` and 0 for the others.
+template <bool Store, class T>
+[[nodiscard]] inline std::uint32_t nonzero_pass(const T* src, std::uint8_t* dst,
                                                 int width) noexcept {
   std::uint32_t count = 0;
   int x = 0;
@@ -178,7 +178,7 @@ template <class T>
     for (; x + 16 <= width; x += 16) {
       const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(src + x));
       const __m128i ones = _mm_andnot_si128(_mm_cmpeq_epi8(v, zero), one);
-      _mm_storeu_si128(reinterpret_cast<__m128i*>(dst + x), ones);
+      if constexpr (Store) _mm_storeu_si128(reinterpret_cast<__m128i*>(dst + x), ones);
       sums = _mm_add_epi64(sums, _mm_sad_epu8(ones, zero));
     }
     count += static_cast<std::uint32_t>(_mm_cvtsi128_si32(sums)) +
@@ -190,16 +190,30 @@ template <class T>
       std::uint64_t word = 0;
       std::memcpy(&word, src + x, sizeof word);
       word = nonzero_bytes(word);
-      std::memcpy(dst + x, &word, sizeof word);
+      if constexpr (Store) std::memcpy(dst + x, &word, sizeof word);
       count += byte_sum(word);
     }
   }
   for (; x < width; ++x) {
     const std::uint8_t v = static_cast<bool>(src[x]) ? 1 : 0;
-    dst[x] = v;
+    if constexpr (Store) dst[x] = v;
     count += v;
   }
   return count;
+}
+
+/// Writes 1 to `dst[i]` for each non-zero `src[i]` and 0 for the others, i ∈ [0, width);
+/// returns the number of non-zero pixels.
+template <class T>
+[[nodiscard]] inline std::uint32_t binarise_row(const T* src, std::uint8_t* dst,
+                                                int width) noexcept {
+  return nonzero_pass<true>(src, dst, width);
+}
+
+/// The number of non-zero pixels of `row[0, width)`.
+template <class T>
+[[nodiscard]] inline std::uint32_t count_nonzero(const T* row, int width) noexcept {
+  return nonzero_pass<false>(row, nullptr, width);
 }
 
 }  // namespace perch::detail
