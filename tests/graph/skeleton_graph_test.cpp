@@ -605,3 +605,28 @@ TEST_CASE("skeleton graph: scanning only the runs of a mask that contains the sk
   }
   CHECK(with_pixels == 200);
 }
+
+TEST_CASE("count_set_pixels: equals a pixel-by-pixel count, over the whole view and inside runs") {
+  std::mt19937 rng(11);
+  perch::workspace ws;
+  for (int round = 0; round < 200; ++round) {
+    const int w = 1 + static_cast<int>(rng() % 150);
+    const int h = 1 + static_cast<int>(rng() % 12);
+    perch::image<std::uint8_t> big(w + 5, h + 2, 0xFF);  // ink around the sub-view must not count
+    perch::image<std::uint8_t> inside(w, h, 0);          // the "mask": where the runs are
+    std::size_t expected = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        inside(x, y) = rng() % 3 != 0 ? 1 : 0;
+        const bool set = inside(x, y) != 0 && rng() % 4 == 0;  // sparse, as a skeleton
+        big(x + 2, y + 1) = set ? static_cast<std::uint8_t>(1 + rng() % 255) : 0;
+        expected += set ? 1 : 0;
+      }
+    const auto skeleton = perch::image_view<const std::uint8_t>(big.view().sub_view(2, 1, w, h));
+    CHECK(perch::detail::count_set_pixels(skeleton, nullptr) == expected);
+    ws.reset();
+    const auto runs = perch::find_row_runs(cview(inside), ws, static_cast<std::size_t>(w * h));
+    REQUIRE(runs);
+    CHECK(perch::detail::count_set_pixels(skeleton, &*runs) == expected);
+  }
+}

@@ -678,8 +678,7 @@ template <BinaryView Skeleton>
   PERCH_TRY(same_size(skeleton, dist2));
   const row_runs* runs =
       within.runs != nullptr && within.runs->spans(skeleton) ? within.runs : nullptr;
-  std::size_t n = 0;
-  detail::for_each_skeleton_pixel(skeleton, runs, [&](int, int) { ++n; });
+  const std::size_t n = detail::count_set_pixels(skeleton, runs);
   const std::size_t node_cap = options.max_nodes != 0 ? options.max_nodes : n;
   const std::size_t edge_cap = options.max_branches != 0 ? options.max_branches : n;
 

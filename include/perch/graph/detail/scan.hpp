@@ -62,4 +62,29 @@ void for_each_set_pixel_in(const V& view, const row_runs& within, F&& f) noexcep
     for (const row_run r : within.row(y)) for_each_set_pixel_in_row(view, y, r.begin, r.end, f);
 }
 
+/// The number of non-zero pixels of `view` (inside `within` when given: it must `span` the view
+/// and contain all its non-zero pixels), 16 byte pixels at a time.
+template <BinaryView V>
+[[nodiscard]] std::size_t count_set_pixels(const V& view, const row_runs* within) noexcept {
+  std::size_t n = 0;
+  if constexpr (byte_pixels<typename V::value_type>) {
+    for (int y = 0; y < view.height(); ++y) {
+      const auto* row = row_pointer(view, y);
+      if (within == nullptr) {
+        n += count_nonzero(row, view.width());
+        continue;
+      }
+      for (const row_run r : within->row(y)) n += count_nonzero(row + r.begin, r.end - r.begin);
+    }
+  } else {
+    auto count = [&n](int, int) { ++n; };
+    if (within != nullptr) {
+      for_each_set_pixel_in(view, *within, count);
+    } else {
+      for_each_set_pixel(view, count);
+    }
+  }
+  return n;
+}
+
 }  // namespace perch::detail
