@@ -29,14 +29,14 @@ template <polarity P, class V>
   }
 }
 
-/// True when the rows of `Row` are contiguous bytes that can be read eight pixels at a time.
+/// True when the rows of `Row` are contiguous bytes that can be read many pixels at a time.
 template <class Row>
 inline constexpr bool byte_row =
     byte_pixels<std::remove_cvref_t<decltype(std::declval<const Row&>()[0])>> &&
     requires(const Row& r) { r.data(); };
 
 /// First x' ≥ x with a labelled pixel in `row` (of `width` pixels), or `width` if none.
-/// Byte-sized integral masks with contiguous rows are skipped eight pixels at a time.
+/// Byte-sized integral masks with contiguous rows are skipped 16 pixels at a time (`skip_words`).
 template <polarity P, class Row>
 [[nodiscard]] inline int next_labelled(const Row& row, int x, int width) noexcept {
   if constexpr (byte_row<Row>) x = skip_words<P == polarity::background>(row.data(), x, width);
