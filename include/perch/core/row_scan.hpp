@@ -26,6 +26,23 @@ template <class V>
 template <class T>
 inline constexpr bool byte_pixels = sizeof(T) == 1 && std::is_integral_v<std::remove_cv_t<T>>;
 
+#if defined(__SSE2__)
+/// Bit i set where pixel i of the sixteen one-byte pixels from `p` is zero.
+template <class T>
+[[nodiscard]] inline unsigned zero_mask16(const T* p) noexcept {
+  const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+  return static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, _mm_setzero_si128())));
+}
+
+/// Bit i set where pixel i of the sixteen from `p` breaks a run of non-zero (`NonZero`) or zero
+/// pixels.
+template <bool NonZero, class T>
+[[nodiscard]] inline unsigned run_breaks16(const T* p) noexcept {
+  const unsigned zeros = zero_mask16(p);
+  return NonZero ? zeros : ~zeros & 0xFFFFu;
+}
+#endif
+
 /// `skip_words` past the first sixteen pixels: sixteen per step (with SSE2; over background,
 /// 64 per step), then eight-pixel words (the classic has-a-zero-byte test), which on
 /// little-endian machines stop on the first pixel that differs (the lowest flagged byte of the
@@ -33,19 +50,19 @@ inline constexpr bool byte_pixels = sizeof(T) == 1 && std::is_integral_v<std::re
 template <bool NonZero, class T>
 [[nodiscard]] inline int skip_stretch(const T* row, int x, int width) noexcept {
 #if defined(__SSE2__)
-  const __m128i zero = _mm_setzero_si128();
-  auto load = [row](int at) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + at)); };
-  if constexpr (!NonZero)
+  if constexpr (!NonZero) {
+    auto load = [row](int at) {
+      return _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + at));
+    };
     for (; x + 64 <= width; x += 64) {
       const __m128i any = _mm_or_si128(_mm_or_si128(load(x), load(x + 16)),
                                        _mm_or_si128(load(x + 32), load(x + 48)));
-      if (_mm_movemask_epi8(_mm_cmpeq_epi8(any, zero)) != 0xFFFF) break;
+      if (_mm_movemask_epi8(_mm_cmpeq_epi8(any, _mm_setzero_si128())) != 0xFFFF) break;
     }
-  for (; x + 16 <= width; x += 16) {
-    const auto zeros = static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(load(x), zero)));
-    const unsigned breaks = NonZero ? zeros : ~zeros & 0xFFFFu;
-    if (breaks != 0) return x + std::countr_zero(breaks);
   }
+  for (; x + 16 <= width; x += 16)
+    if (const unsigned breaks = run_breaks16<NonZero>(row + x); breaks != 0)
+      return x + std::countr_zero(breaks);
 #endif
   constexpr std::uint64_t ones = 0x0101010101010101u;
   constexpr std::uint64_t highs = 0x8080808080808080u;
@@ -72,11 +89,8 @@ template <bool NonZero, class T>
   static_assert(byte_pixels<T>);
 #if defined(__SSE2__)
   if (x + 16 <= width) {
-    const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + x));
-    const auto zeros =
-        static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, _mm_setzero_si128())));
-    const unsigned breaks = NonZero ? zeros : ~zeros & 0xFFFFu;
-    if (breaks != 0) return x + std::countr_zero(breaks);
+    if (const unsigned breaks = run_breaks16<NonZero>(row + x); breaks != 0)
+      return x + std::countr_zero(breaks);
     x += 16;
   }
 #endif
@@ -117,12 +131,9 @@ template <class T>
   if constexpr (byte_pixels<T>) {
 #if defined(__SSE2__)
     // Sixteen pixels per step, stopping on the last non-zero one.
-    const __m128i zero = _mm_setzero_si128();
-    for (; x - 15 >= from; x -= 16) {
-      const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(row + x - 15));
-      const auto set = ~static_cast<unsigned>(_mm_movemask_epi8(_mm_cmpeq_epi8(v, zero))) & 0xFFFFu;
-      if (set != 0) return x - 15 + (31 - std::countl_zero(set));
-    }
+    for (; x - 15 >= from; x -= 16)
+      if (const unsigned set = ~zero_mask16(row + x - 15) & 0xFFFFu; set != 0)
+        return x - 15 + (31 - std::countl_zero(set));
 #endif
     for (; x - 7 >= from; x -= 8) {
       std::uint64_t word = 0;

@@ -293,17 +293,6 @@ struct skeleton_graph_access {
   return i;
 }
 
-/// Calls `f(x, y)` for every skeleton pixel in raster order: inside `runs` when given (they
-/// contain the skeleton), else over the whole view.
-template <BinaryView Skeleton, class F>
-void for_each_skeleton_pixel(const Skeleton& skeleton, const row_runs* runs, F&& f) noexcept {
-  if (runs != nullptr) {
-    for_each_set_pixel_in(skeleton, *runs, f);
-  } else {
-    for_each_set_pixel(skeleton, f);
-  }
-}
-
 /// Everything of `build_skeleton_graph` after the graph's storage is allocated; `scratch`
 /// memory is drawn from `ws` and released by the caller.
 template <BinaryView Skeleton>

@@ -62,6 +62,17 @@ void for_each_set_pixel_in(const V& view, const row_runs& within, F&& f) noexcep
     for (const row_run r : within.row(y)) for_each_set_pixel_in_row(view, y, r.begin, r.end, f);
 }
 
+/// Calls `f(x, y)` for every skeleton pixel in raster order: inside `runs` when given (they
+/// contain the skeleton), else over the whole view.
+template <BinaryView Skeleton, class F>
+void for_each_skeleton_pixel(const Skeleton& skeleton, const row_runs* runs, F&& f) noexcept {
+  if (runs != nullptr) {
+    for_each_set_pixel_in(skeleton, *runs, f);
+  } else {
+    for_each_set_pixel(skeleton, f);
+  }
+}
+
 /// The number of non-zero pixels of `view` (inside `within` when given: it must `span` the view
 /// and contain all its non-zero pixels), 16 byte pixels at a time.
 template <BinaryView V>
@@ -77,12 +88,7 @@ template <BinaryView V>
       for (const row_run r : within->row(y)) n += count_nonzero(row + r.begin, r.end - r.begin);
     }
   } else {
-    auto count = [&n](int, int) { ++n; };
-    if (within != nullptr) {
-      for_each_set_pixel_in(view, *within, count);
-    } else {
-      for_each_set_pixel(view, count);
-    }
+    for_each_skeleton_pixel(view, within, [&n](int, int) { ++n; });
   }
   return n;
 }
