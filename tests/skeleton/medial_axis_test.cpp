@@ -292,7 +292,8 @@ TEST_CASE(
 TEST_CASE("medial_axis: the packed peeling gives the skeletons of the byte image") {
   // `packed_from = 0` peels every image in the packed copy (flags and key in two bytes, keys of
   // 0x3FFF and more looked up in the map): same skeletons, in place and padded, with true maps
-  // and random ones whose keys cross the packed range (images of 256 px and more can hold them).
+  // and random ones whose keys cross the packed range (images of 256 px and more can hold them),
+  // scanning the mask and from its listed runs.
   std::mt19937 rng(4099);
   workspace ws;
   int large_keys = 0;
@@ -315,11 +316,21 @@ TEST_CASE("medial_axis: the packed peeling gives the skeletons of the byte image
                                     : 0x3FF0u + static_cast<std::uint32_t>(rng() % 32);
           large_keys += m(x, y) != 0 && d2(x, y) >= 0x3FFFu && large;
         }
-    image<std::uint8_t> bytes(w, h, 7), packed(w, h, 7);
+    image<std::uint8_t> bytes(w, h, 7), packed(w, h, 7), listed(w, h, 7);
     REQUIRE(perch::medial_axis{}(m.view(), d2.view(), bytes.view(), ws));
     REQUIRE(perch::medial_axis{.packed_from = 0}(m.view(), d2.view(), packed.view(), ws));
+    {  // with the mask's runs listed (as find_perch gives them): the packed copy set up from them
+      const auto mv = image_view<const std::uint8_t>(m.view());
+      const auto runs =
+          perch::find_row_runs(mv, ws, static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+      REQUIRE(runs);
+      REQUIRE(perch::medial_axis{.packed_from = 0}(mv, d2.view(), listed.view(), ws,
+                                                   perch::detail::mask_runs{&*runs}));
+      ws.reset();
+    }
     INFO("round " << round << ", mask:\n" << to_ascii(m.view()));
     CHECK(to_ascii(packed.view()) == to_ascii(bytes.view()));
+    CHECK(to_ascii(listed.view()) == to_ascii(bytes.view()));
     CHECK(ws.used() == 0);
   }
   CHECK(large_keys > 100000);

@@ -225,6 +225,57 @@ inline void for_each_run_in_row(const row_runs* runs, int y, const T* row, int w
   for_each_run_between(row, 0, width, visit);
 }
 
+/// A position in a row's runs, moved left to right: one per neighbouring row while the runs of
+/// a row are visited in order, so each neighbour's runs are read once per row.
+struct run_cursor {
+  std::span<const row_run> runs;
+  std::size_t at = 0;
+  /// Skips the runs that end at or before x; then `runs[at]`, if any, ends after x.
+  void pass(int x) noexcept {
+    while (at < runs.size() && runs[at].end <= x) ++at;
+  }
+};
+
+/// Calls `visit(from, to)` for each stretch [from, to) of [lo, hi), left to right, not in any
+/// run of `c` (its gaps). Calls for the same row must come with increasing `lo`.
+template <class Visit>
+inline void for_each_gap(run_cursor& c, int lo, int hi, Visit&& visit) noexcept {
+  int x = lo;
+  while (x < hi) {
+    c.pass(x);
+    if (c.at == c.runs.size()) break;
+    const int begin = c.runs[c.at].begin;
+    if (begin > x) visit(x, begin < hi ? begin : hi);
+    x = c.runs[c.at].end;
+  }
+  if (x < hi) visit(x, hi);
+}
+
+/// Calls `visit(x)` for each x of [lo, hi), left to right, that is not in a run of both `a`
+/// and `b` (on a row between them: the pixels with background above or below). Calls for the
+/// same row must come with increasing `lo`.
+template <class Visit>
+inline void for_each_uncovered(run_cursor& a, run_cursor& b, int lo, int hi,
+                               Visit&& visit) noexcept {
+  int x = lo;
+  while (x < hi) {
+    a.pass(x);
+    b.pass(x);
+    if (a.at == a.runs.size() || b.at == b.runs.size()) break;
+    const row_run ra = a.runs[a.at];
+    const row_run rb = b.runs[b.at];
+    const int begin = ra.begin > rb.begin ? ra.begin : rb.begin;
+    const int end = ra.end < rb.end ? ra.end : rb.end;
+    if (begin >= end) {  // apart: the one ending first meets nothing more of the other
+      ++(ra.end < rb.end ? a.at : b.at);
+      continue;
+    }
+    for (const int stop = begin < hi ? begin : hi; x < stop; ++x) visit(x);
+    x = end > x ? end : x;
+  }
+  for (; x < hi; ++x) visit(x);
+}
+
 }  // namespace detail
 
 }  // namespace perch
