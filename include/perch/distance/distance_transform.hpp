@@ -246,7 +246,7 @@ template <class Mask, class Dist>
 /// found eight mask bytes at a time: phase 1 counts a column's run length only on foreground
 /// (a pixel whose upper neighbour is background starts at 1), and a run [a, b] of a row needs
 /// only the sites a−1 … b+1 in phase 2 (the background at a−1 and b+1 is nearer than any site
-/// beyond it; a run whose every pixel has its nearest site within 32 columns, as where the row
+/// beyond it; a run whose every pixel has its nearest site within 64 columns, as where the row
 /// crosses thin limbs, takes the minimum over that window of sites instead, eight pixels per
 /// SSE2 step, with the same result). So only the mask is read whole; the rest costs
 /// O(foreground).
