@@ -151,14 +151,24 @@ inline void nearest_sites_window(const std::uint32_t* g, int m, int reach, std::
       const int last = first + 7 < m - 2 ? first + 7 : m - 2;
       const int to_end = last < m - 1 - first ? last : m - 1 - first;
       const int near = to_end < reach ? to_end : reach;
-      __m128i best = _mm_set1_epi16(far);
-      const std::int16_t(*squares)[8] = window_offset_squares.at + window_reach_limit;
-      for (int k = -near; k <= near; ++k) {
-        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(h + first + k));
-        const __m128i kk = _mm_load_si128(reinterpret_cast<const __m128i*>(squares[k]));
-        best = _mm_min_epi16(best, _mm_adds_epi16(v, kk));
+      // Offset k's sums: sites from h + first + k, k² from its row of the table.
+      const std::int16_t* sites = h + first - near;
+      const std::int16_t(*squares)[8] = window_offset_squares.at + window_reach_limit - near;
+      auto sum = [&](int k) {
+        const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(sites + k));
+        return _mm_adds_epi16(v, _mm_load_si128(reinterpret_cast<const __m128i*>(squares[k])));
+      };
+      // Two minima, over the even and the odd offsets: two chains of dependent steps.
+      __m128i even = _mm_set1_epi16(far);
+      __m128i odd = even;
+      const int offsets = 2 * near + 1;
+      int k = 0;
+      for (; k + 2 <= offsets; k += 2) {
+        even = _mm_min_epi16(even, sum(k));
+        odd = _mm_min_epi16(odd, sum(k + 1));
       }
-      return best;
+      even = _mm_min_epi16(even, sum(k));  // the last, odd-numbered offset
+      return _mm_min_epi16(even, odd);
     };
     const __m128i zero = _mm_setzero_si128();
     auto store = [&](std::uint32_t* to, __m128i best) {
