@@ -168,7 +168,12 @@ struct medial_axis {
                           skeleton.stride() <= static_cast<std::ptrdiff_t>(mask.width()) + 2;
     detail::padded_image img;
     if (in_place) {
-      img = detail::load_in_place(mask, skeleton, runs);
+      // A packed peeling from listed runs writes the output whole when it copies the skeleton
+      // back (zeros around the runs), so the mask is not loaded into it first.
+      const std::size_t cells =
+          static_cast<std::size_t>(skeleton.stride()) * static_cast<std::size_t>(mask.height());
+      const bool load = runs == nullptr || cells < packed_from || cells >= 0x7FFFFFFFu;
+      img = detail::load_in_place(mask, skeleton, runs, load);
     } else {
       auto loaded = detail::load_padded(mask, ws);
       if (!loaded) return unexpected{loaded.error()};
@@ -377,13 +382,28 @@ struct medial_axis {
       return {};
     }
     drain(packed<Distances>{cell, img.stride, distances, cap}, img, queue, border);
-    // The cells two rows down fetched ahead, as in the first pass. (The pointers copied: a byte
-    // store could change them through a reference.)
-    detail::for_each_run(img, [px, cell, s, cells](std::ptrdiff_t first, std::ptrdiff_t end) {
+    // The skeleton copied back, the cells two rows down fetched ahead as in the first pass;
+    // with the output not loaded, whole rows (zeros between the runs). (The pointers copied:
+    // a byte store could change them through a reference.)
+    auto copy_back = [px, cell, s, cells](std::ptrdiff_t first, std::ptrdiff_t end) {
       if (static_cast<std::size_t>(end + 2 * s) < cells)
         for (std::ptrdiff_t i = first + 2 * s; i < end + 2 * s; i += 32) detail::prefetch(cell + i);
       for (std::ptrdiff_t i = first; i < end; ++i) px[i] = static_cast<std::uint8_t>(cell[i] & 1u);
-    });
+    };
+    if (img.loaded) {
+      detail::for_each_run(img, copy_back);
+      return {};
+    }
+    for (int y = 0; y < img.height; ++y) {
+      const std::ptrdiff_t row = img.index(0, y);
+      int x = 0;
+      for (const row_run r : img.runs->row(y)) {
+        std::memset(px + row + x, 0, static_cast<std::size_t>(r.begin - x));
+        copy_back(row + r.begin, row + r.end);
+        x = r.end;
+      }
+      std::memset(px + row + x, 0, static_cast<std::size_t>(img.width - x));
+    }
     return {};
   }
 

@@ -162,6 +162,9 @@ struct padded_image {
   int pad = 1;  ///< 1 for the padded copy, 0 when working in the output
   const row_runs* runs = nullptr;  ///< the runs of the mask it was loaded from, if known
   std::size_t pixels = 0;          ///< foreground pixels loaded
+  /// False when the output was left unwritten (`load_in_place` with `load` false): the runs
+  /// then stand for the mask, and the skeletoniser writes every pixel itself.
+  bool loaded = true;
 
   [[nodiscard]] std::ptrdiff_t index(int x, int y) const noexcept {
     return (static_cast<std::ptrdiff_t>(y) + pad) * stride + x + pad;
@@ -238,11 +241,13 @@ struct padded_image {
 }
 
 /// The working image in `out` itself (`pad` = 0), `mask` (non-zero = 1) copied into it (from
-/// `runs` when given: they must describe `mask`).
+/// `runs` when given: they must describe `mask`); with runs and `load` false, nothing is
+/// written (`loaded` false) and only the foreground is counted.
 /// Precondition: `has_background_frame(mask)`, `out` of the same size.
 [[nodiscard]] inline padded_image load_in_place(image_view<const std::uint8_t> mask,
                                                 image_view<std::uint8_t> out,
-                                                const row_runs* runs = nullptr) noexcept {
+                                                const row_runs* runs = nullptr,
+                                                bool load = true) noexcept {
   padded_image img;
   img.width = mask.width();
   img.height = mask.height();
@@ -251,6 +256,12 @@ struct padded_image {
   img.inv_stride = 1.0 / static_cast<double>(img.stride);
   for (int k = 0; k < 8; ++k) img.offset[k] = code_dy[k] * img.stride + code_dx[k];
   img.px = out.data();
+  if (runs != nullptr && !load) {
+    img.loaded = false;
+    for (int y = 0; y < img.height; ++y)
+      for (const row_run r : runs->row(y)) img.pixels += static_cast<std::size_t>(r.end - r.begin);
+    return img;
+  }
   for (int y = 0; y < img.height; ++y) {
     const std::uint8_t* m = mask.data() + static_cast<std::ptrdiff_t>(y) * mask.stride();
     std::uint8_t* d = img.px + static_cast<std::ptrdiff_t>(y) * img.stride;
