@@ -335,11 +335,10 @@ struct medial_axis {
         for (const row_run r : img.runs->row(y)) {
           const std::ptrdiff_t first = row + r.begin;
           const std::ptrdiff_t end = row + r.end;
-          if (cell != nullptr)
-            detail::for_each_gap(above, r.begin - 1, r.end + 1, [&](int from, int to) {
-              std::memset(cell + row - s + from, 0,
-                          sizeof *cell * static_cast<std::size_t>(to - from));
-            });
+          detail::for_each_gap(above, r.begin - 1, r.end + 1, [&](int from, int to) {
+            std::memset(cell + row - s + from, 0,
+                        sizeof *cell * static_cast<std::size_t>(to - from));
+          });
           count_run(first, end);
           detail::for_each_uncovered(up, down, r.begin + 1, r.end - 1, [&](int x) {
             ring[border++] = static_cast<std::uint32_t>(row + x);
