@@ -16,6 +16,8 @@
 
 #if PERCH_HAVE_OPENCV
 #include <opencv2/imgproc.hpp>
+
+#include "opencv_check.hpp"
 #endif
 
 namespace {
@@ -54,24 +56,9 @@ void opencv_edt(benchmark::State& state) {
   const cv::Mat m(h, w, CV_8U, mask.data());
   cv::Mat dist;
   cv::distanceTransform(m, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-  // Agreement check: OpenCV treats outside the image as foreground, perch as background, so
-  // compare on a mask with a background frame (both then measure to the same pixels).
-  {
-    perch::image<std::uint8_t> framed = mask;
-    for (int x = 0; x < w; ++x) framed(x, 0) = framed(x, h - 1) = 0;
-    for (int y = 0; y < h; ++y) framed(0, y) = framed(w - 1, y) = 0;
-    const cv::Mat fm(h, w, CV_8U, framed.data());
-    cv::Mat fd;
-    cv::distanceTransform(fm, fd, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
-    perch::image<std::uint32_t> d2(w, h);
-    perch::workspace ws;
-    if (!perch::distance_transform_sq(framed.view(), d2.view(), ws)) state.SkipWithError("failed");
-    long differ = 0;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x)
-        if (std::abs(std::sqrt(static_cast<double>(d2(x, y))) - static_cast<double>(fd.at<float>(y, x))) > 1e-3) ++differ;
-    state.counters["differ_px"] = static_cast<double>(differ);
-  }
+  const long differ = perch::bench::opencv_edt_differ_px(mask);
+  if (differ < 0) state.SkipWithError("failed");
+  state.counters["differ_px"] = static_cast<double>(differ);
   for (auto _ : state) {
     cv::distanceTransform(m, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
     benchmark::DoNotOptimize(dist.data);

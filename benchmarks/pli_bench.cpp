@@ -2,7 +2,8 @@
 // 1920×1080 and 4000×3000, clean and noisy, one thread, the workspace made once outside the
 // loop (for the tendon claw also in transparent huge pages). Counters: per-stage milliseconds
 // (medians are taken by --benchmark_repetitions), pixels/s, workspace bytes per pixel and heap
-// allocations per iteration (must be 0).
+// allocations per iteration (must be 0). With OpenCV, the same trees through its distance
+// transform and thinning, for the README's table.
 #include <benchmark/benchmark.h>
 
 #include <atomic>
@@ -16,6 +17,16 @@
 #include "perch/core/huge_pages.hpp"
 #include "perch/pli.hpp"
 #include "support/synthetic_tree.hpp"
+
+#if PERCH_HAVE_OPENCV
+#include <opencv2/imgproc.hpp>
+
+#include "opencv_check.hpp"
+#if __has_include(<opencv2/ximgproc.hpp>)
+#include <opencv2/ximgproc.hpp>
+#define PERCH_BENCH_XIMGPROC 1
+#endif
+#endif
 
 namespace {
 
@@ -124,6 +135,55 @@ void find_perch_in_huge_pages(benchmark::State& state) {
 BENCHMARK(find_perch_in_huge_pages)
     ->Args({640, 480, 0})->Args({1920, 1080, 0})->Args({4000, 3000, 0})
     ->Unit(benchmark::kMillisecond);
+
+#if PERCH_HAVE_OPENCV
+/// The same trees through OpenCV's nearest kernels, one thread, for the table next to the
+/// stages: the distance stage's (`cv::distanceTransform`, L2 precise, on the whole frame, after
+/// checking that it gives perch's distances: `differ_px`).
+void opencv_distance_on_tree(benchmark::State& state) {
+  cv::setNumThreads(1);
+  const int width = static_cast<int>(state.range(0));
+  const int height = static_cast<int>(state.range(1));
+  const auto& tree =
+      tree_for(width, height, state.range(2) != 0 ? tree_noise::noisy : tree_noise::clean);
+  state.counters["differ_px"] = static_cast<double>(perch::bench::opencv_edt_differ_px(tree.mask));
+  const cv::Mat m(height, width, CV_8U, const_cast<std::uint8_t*>(tree.mask.data()));
+  cv::Mat dist;
+  for (auto _ : state) {
+    cv::distanceTransform(m, dist, cv::DIST_L2, cv::DIST_MASK_PRECISE, CV_32F);
+    benchmark::DoNotOptimize(dist.data);
+  }
+}
+BENCHMARK(opencv_distance_on_tree) PERCH_SIZES;
+
+#if PERCH_BENCH_XIMGPROC
+/// And the skeleton stage's nearest: `cv::ximgproc::thinning` (Zhang–Suen; a thinning, not a
+/// medial axis: skeleton_bench compares it with perch's). At 4000×3000 one call takes seconds,
+/// so the two smaller sizes only.
+void opencv_thinning_on_tree(benchmark::State& state) {
+  cv::setNumThreads(1);
+  const int width = static_cast<int>(state.range(0));
+  const int height = static_cast<int>(state.range(1));
+  const auto& tree =
+      tree_for(width, height, state.range(2) != 0 ? tree_noise::noisy : tree_noise::clean);
+  cv::Mat m(height, width, CV_8U);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) m.at<std::uint8_t>(y, x) = tree.mask(x, y) != 0 ? 255 : 0;
+  cv::Mat out;
+  for (auto _ : state) {
+    cv::ximgproc::thinning(m, out, cv::ximgproc::THINNING_ZHANGSUEN);
+    benchmark::DoNotOptimize(out.data);
+  }
+}
+BENCHMARK(opencv_thinning_on_tree)
+    ->Args({640, 480, 0})
+    ->Args({640, 480, 1})
+    ->Args({1920, 1080, 0})
+    ->Args({1920, 1080, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+#endif
+#endif
 
 /// The downscale option: the same 4000×3000 tree analysed at factors 1, 0.5 and 0.25.
 void find_perch_downscaled(benchmark::State& state) {
