@@ -50,13 +50,18 @@ const perch::support::synthetic_tree& tree_for(int width, int height, tree_noise
   return it->second;
 }
 
+/// The tree of a benchmark's arguments: width, height, noisy (0/1).
+const perch::support::synthetic_tree& tree_of(const benchmark::State& state) {
+  return tree_for(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)),
+                  state.range(2) != 0 ? tree_noise::noisy : tree_noise::clean);
+}
+
 /// `HugePages`: the timed workspace's block comes from `perch::huge_page_resource`.
 template <class Platform, bool HugePages = false>
 void find_perch_on_tree(benchmark::State& state) {
-  const int width = static_cast<int>(state.range(0));
-  const int height = static_cast<int>(state.range(1));
-  const auto noise = state.range(2) != 0 ? tree_noise::noisy : tree_noise::clean;
-  const auto& tree = tree_for(width, height, noise);
+  const auto& tree = tree_of(state);
+  const int width = tree.mask.width();
+  const int height = tree.mask.height();
   const perch::fixed_scale scale{tree.mm_per_px};
   perch::perch_options options;
   options.clock = steady_ns;
@@ -142,10 +147,9 @@ BENCHMARK(find_perch_in_huge_pages)
 /// checking that it gives perch's distances: `differ_px`).
 void opencv_distance_on_tree(benchmark::State& state) {
   cv::setNumThreads(1);
-  const int width = static_cast<int>(state.range(0));
-  const int height = static_cast<int>(state.range(1));
-  const auto& tree =
-      tree_for(width, height, state.range(2) != 0 ? tree_noise::noisy : tree_noise::clean);
+  const auto& tree = tree_of(state);
+  const int width = tree.mask.width();
+  const int height = tree.mask.height();
   state.counters["differ_px"] = static_cast<double>(perch::bench::opencv_edt_differ_px(tree.mask));
   const cv::Mat m(height, width, CV_8U, const_cast<std::uint8_t*>(tree.mask.data()));
   cv::Mat dist;
@@ -162,10 +166,9 @@ BENCHMARK(opencv_distance_on_tree) PERCH_SIZES;
 /// so the two smaller sizes only.
 void opencv_thinning_on_tree(benchmark::State& state) {
   cv::setNumThreads(1);
-  const int width = static_cast<int>(state.range(0));
-  const int height = static_cast<int>(state.range(1));
-  const auto& tree =
-      tree_for(width, height, state.range(2) != 0 ? tree_noise::noisy : tree_noise::clean);
+  const auto& tree = tree_of(state);
+  const int width = tree.mask.width();
+  const int height = tree.mask.height();
   cv::Mat m(height, width, CV_8U);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) m.at<std::uint8_t>(y, x) = tree.mask(x, y) != 0 ? 255 : 0;
