@@ -166,13 +166,16 @@ struct medial_axis {
     // output itself, and when `dist2` is laid out like the output its values are read by index.
     const bool in_place = detail::has_background_frame(mask) &&
                           skeleton.stride() <= static_cast<std::ptrdiff_t>(mask.width()) + 2;
+    // The working image's pixels, frame included (in place: the output's rows).
+    const std::size_t cells = in_place ? static_cast<std::size_t>(skeleton.stride()) *
+                                             static_cast<std::size_t>(mask.height())
+                                       : detail::padded_pixels(mask.width(), mask.height());
+    const bool packing = cells >= packed_from;
     detail::padded_image img;
     if (in_place) {
       // A packed peeling from listed runs writes the output whole when it copies the skeleton
       // back (zeros around the runs), so the mask is not loaded into it first.
-      const std::size_t cells =
-          static_cast<std::size_t>(skeleton.stride()) * static_cast<std::size_t>(mask.height());
-      const bool load = runs == nullptr || cells < packed_from || cells >= 0x7FFFFFFFu;
+      const bool load = runs == nullptr || !packing || cells >= 0x7FFFFFFFu;
       img = detail::load_in_place(mask, skeleton, runs, load);
     } else {
       auto loaded = detail::load_padded(mask, ws);
@@ -181,13 +184,9 @@ struct medial_axis {
     }
     img.runs = runs;
     const std::uint32_t cap = max_dist2(img.width, img.height);
-    const std::size_t cells = in_place ? static_cast<std::size_t>(img.stride) *
-                                             static_cast<std::size_t>(img.height)
-                                       : detail::padded_pixels(img.width, img.height);
     // Pixel indices are held in 32 bits (only a degenerate strip, e.g. 1 × 2^31, has more).
     if (cells >= 0x7FFFFFFFu) return fail(errc::image_too_large, "medial_axis: too many pixels");
     const auto peeling = ws.mark();
-    const bool packing = cells >= packed_from;
     const status peeled =
         in_place && dist2.stride() == img.stride
             ? peel(img, cells, ws, cap, distances_by_index{dist2.data()}, packing)
