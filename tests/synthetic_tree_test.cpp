@@ -4,11 +4,13 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <numbers>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -430,6 +432,7 @@ TEST_CASE("truth helpers: slope folded into [0, 90], diameter interpolated") {
   limb.diameter_px = {6.0f, 4.0f, 2.0f};
   limb.arc_px = {0.0f, 10.0f, 20.0f};
   limb.base_heading_rad = std::numbers::pi_v<float> / 2.0f;  // pointing +x: horizontal
+  limb.exact_arc = true;  // the tangent from the heading (the polyline agrees at first)
   CHECK(perch::support::truth_slope_deg_at(limb, 5.0f) == approx(0.0f).epsilon(1e-4));
   CHECK(perch::support::truth_diameter_at(limb, 15.0f) == approx(3.0f));
   CHECK(perch::support::truth_diameter_at(limb, -5.0f) == approx(6.0f));
@@ -519,4 +522,424 @@ TEST_CASE("make_tree: invalid options give an empty tree") {
   o.height = 2;
   const synthetic_tree tiny = perch::support::make_tree(o);
   CHECK(tiny.mask.width() == 3);
+}
+
+// ------------------------------------------------------------------------------------------------
+// The truth's rules (perch_truth) on hand-built trees, 1 mm/px unless said: a window is 180 px.
+// ------------------------------------------------------------------------------------------------
+
+namespace {
+
+using perch::support::perch_truth;
+using perch::support::window_verdict;
+
+/// A polyline limb through `points` with diameters `d` (px).
+limb_truth polyline_limb(std::vector<Vec> points, std::vector<float> d,
+                         limb_kind kind = limb_kind::trunk, int parent = -1) {
+  limb_truth limb;
+  limb.kind = kind;
+  limb.parent = parent;
+  limb.centreline = std::move(points);
+  limb.diameter_px = std::move(d);
+  limb.arc_px.assign(limb.centreline.size(), 0.0f);
+  for (std::size_t i = 1; i < limb.centreline.size(); ++i)
+    limb.arc_px[i] = limb.arc_px[i - 1] + (limb.centreline[i] - limb.centreline[i - 1]).norm();
+  return limb;
+}
+
+/// A straight limb from a to b, diameters da → db.
+limb_truth straight_limb(Vec a, Vec b, float da, float db, limb_kind kind = limb_kind::trunk,
+                         int parent = -1) {
+  return polyline_limb({a, b}, {da, db}, kind, parent);
+}
+
+/// A tree of these limbs on a w×h mask (drawn, though the truth never reads it).
+synthetic_tree hand_tree(int w, int h, float mm_per_px, std::vector<limb_truth> limbs) {
+  synthetic_tree tree;
+  tree.mm_per_px = mm_per_px;
+  tree.mask = image<std::uint8_t>(w, h, 0);
+  tree.limbs = std::move(limbs);
+  for (const limb_truth& limb : tree.limbs) {
+    std::vector<float> radii;
+    for (const float d : limb.diameter_px) radii.push_back(0.5f * d);
+    perch::support::draw_polyline(tree.mask.view(), limb.centreline, radii);
+  }
+  return tree;
+}
+
+/// A level 60 mm limb along y = 300 from x = 100 to 700, and a second, `d_other` thick, level
+/// above it with its surface `gap` px (mm) from the first's (kind `other_kind`, its own tree).
+synthetic_tree two_level_limbs(float gap, float d_other, limb_kind other_kind = limb_kind::trunk) {
+  const float y = 300.0f - 30.0f - gap - 0.5f * d_other;
+  limb_truth other = straight_limb(Vec(100, y), Vec(700, y), d_other, d_other, other_kind);
+  other.tree = 1;
+  return hand_tree(800, 600, 1.0f,
+                   {straight_limb(Vec(100, 300), Vec(700, 300), 60.0f, 60.0f), other});
+}
+
+}  // namespace
+
+TEST_CASE("perch_truth: clearance is 70 mm from every other limb's surface at least 20 mm thick") {
+  {
+    const synthetic_tree tree = two_level_limbs(69.0f, 40.0f);
+    const perch_truth truth(tree);
+    const auto w = truth.window(0, 300.0f);
+    CHECK(w.verdict == window_verdict::clearance);
+    CHECK(w.clearance_mm == approx(69.0f).epsilon(1e-3));
+  }
+  {
+    const synthetic_tree tree = two_level_limbs(71.0f, 40.0f);
+    const perch_truth truth(tree);
+    const auto w = truth.window(0, 300.0f);
+    CHECK(w.verdict == window_verdict::feasible);
+    CHECK(w.clearance_mm == approx(71.0f).epsilon(1e-3));
+    CHECK(truth.has_perch());
+  }
+  // Thinner than 20 mm there, or a twig: no obstacle. A fragment is one.
+  CHECK(perch_truth(two_level_limbs(30.0f, 19.0f)).window(0, 300.0f).verdict ==
+        window_verdict::feasible);
+  CHECK(perch_truth(two_level_limbs(30.0f, 40.0f, limb_kind::twig)).window(0, 300.0f).verdict ==
+        window_verdict::feasible);
+  CHECK(perch_truth(two_level_limbs(30.0f, 40.0f, limb_kind::fragment)).window(0, 300.0f).verdict ==
+        window_verdict::clearance);
+  // A tapering obstacle counts only where it is 20 mm thick or more: 40 → 0 mm from x 100 to
+  // 700 is 20 mm at x = 400; beyond it, it is no obstacle (its surface 25–50 px from ours), so
+  // a window over x ∈ [510, 690] passes, its gap measured to (400, 250), radius 10.
+  {
+    limb_truth taper = straight_limb(Vec(100, 250), Vec(700, 250), 40.0f, 0.0f);
+    taper.tree = 1;
+    const synthetic_tree tree = hand_tree(
+        800, 600, 1.0f, {straight_limb(Vec(100, 300), Vec(700, 300), 60.0f, 60.0f), taper});
+    const perch_truth truth(tree);
+    CHECK(truth.window(0, 200.0f).verdict == window_verdict::clearance);
+    const auto far = truth.window(0, 500.0f);
+    CHECK(far.verdict == window_verdict::feasible);
+    // From (510, 300), radius 30: √(110² + 50²) − 10 − 30 ≈ 80.8 mm.
+    CHECK(far.clearance_mm ==
+          approx(std::sqrt(110.0f * 110.0f + 50.0f * 50.0f) - 40.0f).epsilon(1e-3));
+  }
+}
+
+TEST_CASE("perch_truth: a window near its own base is inside its parent; one over a child fails") {
+  // A level 80 mm parent along y = 300; a 40 mm child leaving its axis at (400, 300), rising at
+  // 30°. At arc s the child's axis is s/2 from the parent's, its surface s/2 − 40 − 20 from the
+  // parent's surface: ≥ 70 from s = 260 on, so windows centred at c ≥ 350 pass.
+  const float c30 = std::cos(std::numbers::pi_v<float> / 6.0f);
+  const Vec base(400, 300), tip = base + 500.0f * Vec(c30, -0.5f);
+  const synthetic_tree tree =
+      hand_tree(1000, 600, 1.0f,
+                {straight_limb(Vec(50, 300), Vec(950, 300), 80.0f, 80.0f),
+                 straight_limb(base, tip, 40.0f, 40.0f, limb_kind::limb, 0)});
+  const perch_truth truth(tree);
+  const auto near_base = truth.window(1, 95.0f);
+  CHECK(near_base.verdict == window_verdict::clearance);
+  CHECK(near_base.clearance_mm < 0.0f);  // inside the parent
+  CHECK(truth.window(1, 345.0f).verdict == window_verdict::clearance);
+  CHECK(truth.window(1, 345.0f).clearance_mm == approx(67.5f).epsilon(1e-3));
+  CHECK(truth.window(1, 355.0f).verdict == window_verdict::feasible);
+  CHECK(truth.window(1, 355.0f).slope_deg == approx(30.0f).epsilon(1e-3));
+  const auto over_child = truth.window(0, 350.0f);  // the parent's window over the child's base
+  CHECK(over_child.verdict == window_verdict::clearance);
+  CHECK(over_child.clearance_mm < 0.0f);
+  // Far from the child: window x ∈ [60, 240], the child's base 160 px away (gap 100 mm).
+  CHECK(truth.window(0, 100.0f).verdict == window_verdict::feasible);
+}
+
+TEST_CASE("perch_truth: the border margin is 3 px beyond the limb's surface") {
+  for (const float margin : {2.0f, 3.0f}) {
+    const float y = 20.0f + margin;  // 40 px limb: its surface `margin` from the top edge
+    const synthetic_tree tree =
+        hand_tree(800, 600, 1.0f, {straight_limb(Vec(100, y), Vec(700, y), 40.0f, 40.0f)});
+    const auto w = perch_truth(tree).window(0, 300.0f);
+    CHECK(w.border_px == approx(margin));
+    CHECK(w.verdict == (margin < 3.0f ? window_verdict::outside_image : window_verdict::feasible));
+  }
+  // The left edge, at the window's end only.
+  const synthetic_tree tree =
+      hand_tree(800, 600, 1.0f, {straight_limb(Vec(22, 300), Vec(700, 300), 40.0f, 40.0f)});
+  const perch_truth truth(tree);
+  CHECK(truth.window(0, 90.0f).verdict == window_verdict::outside_image);  // end at x = 22
+  CHECK(truth.window(0, 91.5f).verdict == window_verdict::feasible);       // end at x = 23.5
+}
+
+TEST_CASE("perch_truth: diameter, then resolution: a 3 px wide 36 mm limb is no safe grasp") {
+  // 12 mm/px: 36 mm is 3 px; 3 − 1 = 2 px is below 30 mm (2.5 px).
+  const synthetic_tree thin =
+      hand_tree(200, 100, 12.0f, {straight_limb(Vec(20, 50), Vec(180, 50), 3.0f, 3.0f)});
+  const auto w = perch_truth(thin).window(0, 80.0f);
+  CHECK(w.claw_diameter_mm == approx(36.0f));
+  CHECK(w.verdict == window_verdict::resolution);
+  // 4 px = 48 mm: 3 px = 36 mm ≥ 30, 5 px = 60 mm ≤ 110: fine.
+  const synthetic_tree ok =
+      hand_tree(200, 100, 12.0f, {straight_limb(Vec(20, 50), Vec(180, 50), 4.0f, 4.0f)});
+  CHECK(perch_truth(ok).window(0, 80.0f).verdict == window_verdict::feasible);
+  // 1 mm/px: 115 mm is out of range (diameter), 109.5 mm within it but 110.5 mm after a pixel.
+  for (const auto& [d, expected] :
+       {std::pair{115.0f, window_verdict::diameter}, std::pair{109.5f, window_verdict::resolution},
+        std::pair{100.0f, window_verdict::feasible}}) {
+    const synthetic_tree tree =
+        hand_tree(800, 600, 1.0f, {straight_limb(Vec(100, 300), Vec(700, 300), d, d)});
+    CHECK(perch_truth(tree).window(0, 300.0f).verdict == expected);
+  }
+}
+
+TEST_CASE("perch_truth: twigs by kind or by thickness; fragments and their limbs unsupported") {
+  const synthetic_tree tree = hand_tree(
+      1000, 800, 1.0f,
+      {straight_limb(Vec(100, 100), Vec(700, 100), 19.5f, 19.5f),  // thin everywhere: a twig
+       straight_limb(Vec(100, 300), Vec(700, 300), 50.0f, 50.0f, limb_kind::fragment),
+       straight_limb(Vec(400, 300), Vec(400, 700), 50.0f, 50.0f, limb_kind::twig, 1),
+       straight_limb(Vec(700, 300), Vec(900, 500), 40.0f, 40.0f, limb_kind::limb, 1),
+       straight_limb(Vec(100, 600), Vec(300, 600), 40.0f, 40.0f, limb_kind::limb, 3)});
+  const perch_truth truth(tree);
+  CHECK(truth.window(0, 300.0f).verdict == window_verdict::twig);
+  CHECK(truth.window(1, 300.0f).verdict == window_verdict::unsupported);
+  CHECK(truth.window(2, 200.0f).verdict == window_verdict::twig);
+  CHECK(truth.window(4, 100.0f).verdict == window_verdict::unsupported);  // grandchild
+  CHECK(!truth.has_perch());
+  CHECK(std::string(perch::support::to_string(window_verdict::unsupported)) == "unsupported");
+}
+
+TEST_CASE("perch_truth: slope at every point, bend over a window length around a kink") {
+  auto slope_tree = [](float deg) {
+    const float a = deg * std::numbers::pi_v<float> / 180.0f;
+    const Vec base(100, 500);
+    return hand_tree(
+        900, 700, 1.0f,
+        {straight_limb(base, base + 600.0f * Vec(std::cos(a), -std::sin(a)), 50.0f, 50.0f)});
+  };
+  CHECK(perch_truth(slope_tree(34.0f)).window(0, 300.0f).verdict == window_verdict::feasible);
+  const auto steep = perch_truth(slope_tree(36.0f)).window(0, 300.0f);
+  CHECK(steep.verdict == window_verdict::slope);
+  CHECK(steep.slope_deg == approx(36.0f).epsilon(1e-3));
+  // Level for 300 px, then a kink of 30° (rising): windows within a window length of the kink
+  // see it (bend), others not; the steepest local slope, not the chord, is judged.
+  const float a = 30.0f * std::numbers::pi_v<float> / 180.0f;
+  const Vec k(100, 500);
+  const synthetic_tree kinked =
+      hand_tree(1000, 700, 1.0f,
+                {polyline_limb(
+                    {k, k + Vec(300, 0), k + Vec(300, 0) + 300.0f * Vec(std::cos(a), -std::sin(a))},
+                    {50.0f, 50.0f, 50.0f})});
+  const perch_truth truth(kinked);
+  const auto at_kink = truth.window(0, 300.0f);
+  CHECK(at_kink.verdict == window_verdict::bend);
+  CHECK(at_kink.bend_deg == approx(30.0f).epsilon(1e-3));
+  CHECK(at_kink.slope_deg == approx(30.0f).epsilon(1e-3));
+  CHECK(truth.window(0, 140.0f).verdict == window_verdict::bend);  // s + 90 reaches the kink
+  CHECK(truth.window(0, 100.0f).verdict == window_verdict::feasible);
+  CHECK(truth.window(0, 100.0f).bend_deg == approx(0.0f));
+  CHECK(truth.window(0, 500.0f).verdict == window_verdict::feasible);
+  CHECK(truth.window(0, 460.0f).verdict == window_verdict::bend);
+  // A gentle 15° kink is allowed.
+  const float b = 15.0f * std::numbers::pi_v<float> / 180.0f;
+  const synthetic_tree gentle =
+      hand_tree(1000, 700, 1.0f,
+                {polyline_limb(
+                    {k, k + Vec(300, 0), k + Vec(300, 0) + 300.0f * Vec(std::cos(b), -std::sin(b))},
+                    {50.0f, 50.0f, 50.0f})});
+  CHECK(perch_truth(gentle).window(0, 300.0f).verdict == window_verdict::feasible);
+}
+
+TEST_CASE("perch_truth: window off the limb; measures filled; stretches only of feasible windows") {
+  const synthetic_tree tree =
+      hand_tree(800, 600, 1.0f, {straight_limb(Vec(100, 300), Vec(700, 300), 60.0f, 60.0f)});
+  const perch_truth truth(tree);
+  CHECK(truth.window(0, 80.0f).verdict == window_verdict::off_limb);
+  CHECK(truth.window(0, 90.0f).verdict == window_verdict::feasible);
+  CHECK(truth.window(0, 511.0f).verdict == window_verdict::off_limb);
+  REQUIRE(truth.stretches().size() == 1);
+  CHECK(truth.stretches()[0].arc_begin_px == approx(0.0f));
+  CHECK(truth.stretches()[0].arc_end_px == approx(600.0f));
+  CHECK(truth.is_feasible_site(Vec(400, 301), 1.5f));
+  CHECK(!truth.is_feasible_site(Vec(150, 300), 1.5f));  // within half a window of the base
+  CHECK(truth.window(5, 100.0f).limb == 5);             // no such limb: off_limb
+  CHECK(truth.window(5, 100.0f).verdict == window_verdict::off_limb);
+}
+
+// ------------------------------------------------------------------------------------------------
+// The variety knobs
+// ------------------------------------------------------------------------------------------------
+
+namespace {
+
+/// The heading of a polyline segment, degrees from vertical-up (+ towards +x).
+double segment_heading_deg(const limb_truth& limb, std::size_t i) {
+  const Vec d = limb.centreline[i + 1] - limb.centreline[i];
+  return std::atan2(static_cast<double>(d.x()), -static_cast<double>(d.y())) * 180.0 /
+         std::numbers::pi;
+}
+
+double wrap_deg(double a) { return std::remainder(a, 360.0); }
+
+/// Every limb but the roots starts on its parent's centreline.
+void check_attached(const synthetic_tree& tree) {
+  for (const limb_truth& limb : tree.limbs) {
+    if (limb.parent < 0) continue;
+    const limb_truth& parent = tree.limbs[static_cast<std::size_t>(limb.parent)];
+    CHECK((limb.centreline[0] - perch::support::truth_point_at(parent, limb.parent_arc_px)).norm() <
+          0.01f);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("tree_options::bending: deterministic smooth wander, no longer one arc") {
+  tree_options o = small(3);
+  o.bending = 0.8f;
+  const synthetic_tree a = perch::support::make_tree(o), b = perch::support::make_tree(o);
+  CHECK(same_bytes(a.mask, b.mask));
+  CHECK(!same_bytes(a.mask, perch::support::make_tree(small(3)).mask));
+  check_attached(a);
+  int wandering = 0;
+  for (const limb_truth& limb : a.limbs) {
+    if (limb.kind != limb_kind::limb && limb.kind != limb_kind::trunk) continue;
+    CHECK(!limb.exact_arc);
+    // Heading at quarter points: an arc turns evenly; a wandering limb does not.
+    auto heading_at = [&](float u) {
+      float t = 0.0f;
+      const std::size_t i =
+          perch::support::detail::segment_at(limb, u * perch::support::length_px(limb), t);
+      return segment_heading_deg(limb, i);
+    };
+    const double second = wrap_deg(heading_at(0.75f) - heading_at(0.5f)) -
+                          wrap_deg(heading_at(0.5f) - heading_at(0.25f));
+    wandering += std::abs(second) > 3.0 ? 1 : 0;
+    // Smooth: no two consecutive segments turn by 10° (kinks turn 20° or more; none asked).
+    for (std::size_t i = 0; i + 2 < limb.centreline.size(); ++i)
+      CHECK(std::abs(wrap_deg(segment_heading_deg(limb, i + 1) - segment_heading_deg(limb, i))) <
+            10.0);
+    // The mean curvature is the heading change over the length (the last segment's heading is
+    // that of its middle: a few degrees from the tip's).
+    const double turn =
+        wrap_deg(segment_heading_deg(limb, limb.centreline.size() - 2) -
+                 static_cast<double>(limb.base_heading_rad) * 180.0 / std::numbers::pi);
+    CHECK(std::abs(static_cast<double>(limb.curvature_per_px * perch::support::length_px(limb)) *
+                       180.0 / std::numbers::pi -
+                   turn) < 6.0);
+  }
+  CHECK(wandering >= 3);
+  // The tangent of a wandering limb follows the polyline.
+  const limb_truth& trunk = a.limbs[0];
+  const Vec t = perch::support::truth_tangent_at(trunk, 0.5f);
+  const Vec d = (trunk.centreline[1] - trunk.centreline[0]).normalized();
+  CHECK((t - d).norm() < 1e-4f);
+}
+
+TEST_CASE("tree_options::kinks: sharp turns of 20-60 degrees on limbs, the trunk straight") {
+  int kinks = 0;
+  for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+    tree_options o = small(seed);
+    o.kinks = 2;
+    const synthetic_tree tree = perch::support::make_tree(o);
+    CHECK(same_bytes(tree.mask, perch::support::make_tree(o).mask));
+    check_attached(tree);
+    for (const limb_truth& limb : tree.limbs) {
+      if (limb.kind != limb_kind::limb && limb.kind != limb_kind::trunk) continue;
+      for (std::size_t i = 0; i + 2 < limb.centreline.size(); ++i) {
+        const double turn =
+            std::abs(wrap_deg(segment_heading_deg(limb, i + 1) - segment_heading_deg(limb, i)));
+        if (turn < 5.0) continue;
+        CHECK(limb.kind != limb_kind::trunk);
+        CHECK(turn >= 19.0);
+        CHECK(turn <= 61.0);  // two kinks may not share a vertex by chance: each 20–60°
+        ++kinks;
+      }
+    }
+  }
+  CHECK(kinks >= 5);
+}
+
+TEST_CASE("tree_options::fragments: detached pieces of mask near the crown, unsupported") {
+  for (const float noise : {0.0f, 3.0f}) {
+    tree_options o = small(5);
+    o.fragments = 4;
+    o.noise = noise;
+    const synthetic_tree tree = perch::support::make_tree(o);
+    CHECK(same_bytes(tree.mask, perch::support::make_tree(o).mask));
+    int fragments = 0;
+    bool started = false;
+    for (const limb_truth& limb : tree.limbs) {
+      started = started || limb.kind == limb_kind::fragment;
+      CHECK((limb.kind == limb_kind::fragment) == started);  // fragments come last
+      if (limb.kind != limb_kind::fragment) continue;
+      ++fragments;
+      CHECK(limb.parent == -1);
+      CHECK(limb.tree == 0);
+      CHECK(in_image(tree.mask,
+                     perch::support::truth_point_at(limb, 0.5f * perch::support::length_px(limb))));
+    }
+    CHECK(fragments >= 3);
+    // Each is its own component: the tree and every fragment.
+    CHECK(count_components8(tree.mask) == 1 + fragments);
+    const perch_truth truth(tree);
+    for (std::size_t i = 0; i < tree.limbs.size(); ++i)
+      if (tree.limbs[i].kind == limb_kind::fragment) {
+        const auto v =
+            truth.window(static_cast<int>(i), 0.5f * perch::support::length_px(tree.limbs[i]))
+                .verdict;
+        CHECK((v == window_verdict::unsupported || v == window_verdict::twig ||
+               v == window_verdict::off_limb));
+      }
+  }
+}
+
+TEST_CASE("tree_options::wide_side_angles: side limbs leave at 20-80 degrees") {
+  int below_35 = 0, above_70 = 0;
+  for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+    tree_options o = small(seed);
+    o.wide_side_angles = true;
+    o.side_limbs = 2;
+    const synthetic_tree tree = perch::support::make_tree(o);
+    check_attached(tree);
+    for (const limb_truth& limb : tree.limbs) {
+      if (limb.parent < 0 || limb.kind != limb_kind::limb) continue;
+      const limb_truth& parent = tree.limbs[static_cast<std::size_t>(limb.parent)];
+      if (limb.parent_arc_px >= perch::support::length_px(parent)) continue;  // a fork child
+      const Vec t = perch::support::truth_tangent_at(parent, limb.parent_arc_px);
+      const double here = std::atan2(static_cast<double>(t.x()), -static_cast<double>(t.y())) *
+                          180.0 / std::numbers::pi;
+      const double divergence = std::abs(
+          wrap_deg(static_cast<double>(limb.base_heading_rad) * 180.0 / std::numbers::pi - here));
+      CHECK(divergence <= 80.5);
+      below_35 += divergence < 35.0 ? 1 : 0;
+      above_70 += divergence > 70.0 ? 1 : 0;
+    }
+  }
+  CHECK(below_35 >= 1);
+  CHECK(above_70 >= 1);
+}
+
+TEST_CASE("perch_truth: no-perch trees stay so with every knob; a 960x720 truth is fast") {
+  int with = 0;
+  double worst_ms = 0.0;
+  for (std::uint32_t seed = 1; seed <= 12; ++seed) {
+    for (const bool none : {true, false}) {
+      tree_options o = perch::support::benchmark_tree_options(960, 720, tree_noise::clean);
+      o.seed = 500u + seed;
+      o.mm_per_px = 180.0f / (0.08f * 960.0f);
+      o.bending = 0.7f;
+      o.kinks = 1;
+      o.fragments = 3;
+      o.wide_side_angles = true;
+      o.crossings = 1;
+      o.second_tree = seed % 2 == 0 ? 0.6f : 0.0f;
+      o.noise = seed % 3 == 0 ? 2.5f : 0.0f;
+      o.twigs = seed % 3 == 0 ? 8 : 0;
+      if (none) o.perches = perch::support::perch_supply::none;
+      const synthetic_tree tree = perch::support::make_tree(o);
+      const auto start = std::chrono::steady_clock::now();
+      const perch_truth truth(tree);
+      worst_ms = std::max(worst_ms, std::chrono::duration<double, std::milli>(
+                                        std::chrono::steady_clock::now() - start)
+                                        .count());
+      if (none)
+        CHECK_MESSAGE(!truth.has_perch(), "seed " << o.seed);
+      else
+        with += truth.has_perch() ? 1 : 0;
+    }
+  }
+  CHECK(worst_ms < 1000.0);
+  MESSAGE(with << " of 12 natural trees with every knob have a perch; truth worst " << worst_ms
+               << " ms");
 }

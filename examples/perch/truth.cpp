@@ -18,6 +18,8 @@ std::string_view kind_name(support::limb_kind k) {
       return "trunk";
     case support::limb_kind::twig:
       return "twig";
+    case support::limb_kind::fragment:
+      return "fragment";
     case support::limb_kind::limb:
       break;
   }
@@ -85,6 +87,7 @@ std::string read_truth(const std::filesystem::path& path, truth_file& truth) {
     if (const json_value* k = l.find("kind"); k != nullptr && k->is_string())
       limb.kind = k->text == "trunk" ? support::limb_kind::trunk
                   : k->text == "twig" ? support::limb_kind::twig
+                  : k->text == "fragment" ? support::limb_kind::fragment
                                       : support::limb_kind::limb;
     const json_value* c = l.find("centreline");
     const json_value* d = l.find("diameter_px");

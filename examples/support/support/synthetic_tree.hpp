@@ -6,9 +6,11 @@
 /// recursively into limbs whose diameters follow the pipe model (Leonardo da Vinci's rule,
 /// d_parent² ≈ Σ d_child², at each fork and for side limbs leaving a limb along its length),
 /// limbs of varied slope (near-horizontal side limbs, steep leaders), each limb one circular arc
-/// (gentle, constant curvature), some leaving the image. Optional noise adds what real
-/// segmentation masks carry: bumps and spurs on the outline (which grow spurious skeleton
-/// branches), thin clutter twigs, and occlusion holes (loops in the skeleton).
+/// (gentle, constant curvature) unless `bending` or `kinks` ask for wandering or kinked limbs,
+/// some leaving the image. Optional noise adds what real segmentation masks carry: bumps and
+/// spurs on the outline (which grow spurious skeleton branches), thin clutter twigs, occlusion
+/// holes (loops in the skeleton) and detached fragments. `perch_truth` says where a claw could
+/// perch, from the drawn geometry.
 ///
 /// The mask is the union of tapered capsules, one per centreline segment: a pixel (x, y) is tree
 /// when its centre, the point (x, y) (pixel centres sit at integer coordinates, as
@@ -168,9 +170,10 @@ inline void draw_arc(image_view<std::uint8_t> img, Eigen::Vector2f centre, float
 // Trees and their truth
 // ------------------------------------------------------------------------------------------------
 
-/// What a truth limb is: the trunk (limb 0), a limb of the branching structure, or a thin
-/// clutter twig (noise geometry, still real tree pixels).
-enum class limb_kind : std::uint8_t { trunk, limb, twig };
+/// What a truth limb is: the trunk (limb 0), a limb of the branching structure, a thin
+/// clutter twig (noise geometry, still real tree pixels), or a fragment: a piece of mask
+/// detached from every tree (a segmenter's gap, foliage), which holds nothing up.
+enum class limb_kind : std::uint8_t { trunk, limb, twig, fragment };
 
 /// Which limbs `locate` considers.
 enum class limb_set : std::uint8_t { all, without_twigs };
@@ -208,6 +211,26 @@ struct tree_options {
   float second_tree = 0.0f;  ///< a second, smaller tree beside the first, its size relative to
                              ///< the first's in (0, 1] (trunk diameter and height); 0: none
   perch_supply perches = perch_supply::natural;  ///< `none`: a tree with no feasible perch
+  /// Random low-frequency bending along the limbs of the branching structure, 0 … 1: the
+  /// heading varies smoothly along the arc, the sum of 1–3 sinusoids of 0.3–1.5 periods per limb
+  /// length (a fifth of the image height for shorter limbs, so short limbs do not wiggle), each
+  /// of amplitude `bending` × 4–12°, on top of the limb's arc, so limbs are no
+  /// longer single circular arcs (`limb_truth::exact_arc` false; `curvature_per_px` holds the
+  /// mean). Real limbs wander so; a truth that assumes arcs misjudges them. 0: none.
+  float bending = 0.0f;
+  /// Sharp kinks: each limb of the branching structure but the trunk gets 0 … `kinks` of them
+  /// (drawn per limb), at 20–80 % of its length, where its heading jumps by ±20–60° (a limb
+  /// that lost its leader and turned). 0: none.
+  int kinks = 0;
+  /// Detached pieces of mask near the crown (`limb_kind::fragment`, parent -1, `tree` the
+  /// nearest tree's): short thick stubs (25–90 mm), thin sticks (2–6 px) or blobs, each at least
+  /// 4 px (plus room for the outline noise) from every limb, twig and other fragment, so it is
+  /// its own component of the mask: a segmenter's gap or foliage, which holds nothing up.
+  int fragments = 0;
+  /// Side limbs of every limb leave at 20–80° from it (instead of 35–70°; the trunk's at
+  /// 20–80° from the trunk instead of 58–84° from vertical): steep side limbs beside near-level
+  /// ones, and side limbs that hug their parent for a while.
+  bool wide_side_angles = false;
 };
 
 /// The ground truth of one limb: a centreline from base to tip with a diameter per vertex.
@@ -221,8 +244,14 @@ struct limb_truth {
   int level = 0;               ///< 0 trunk, 1 its children, …
   limb_kind kind = limb_kind::limb;
   float base_heading_rad = 0.0f;  ///< direction at the base, from vertical-up, + towards +x
-  float curvature_per_px = 0.0f;  ///< signed, constant: d(heading)/d(arc), + turns clockwise
+  float curvature_per_px = 0.0f;  ///< signed d(heading)/d(arc), + turns clockwise: constant
+                                  ///< for an exact arc, else the mean (tip − base heading)/length
   int tree = 0;                   ///< which tree it belongs to: 0 the first, 1 the second
+  /// The centreline samples one circular arc of `base_heading_rad` and `curvature_per_px`
+  /// (the generator's limbs without bending or kinks): `truth_tangent_at` then answers from
+  /// the exact arc. Otherwise (bent or kinked limbs, hand-built or imported ones) it answers
+  /// from the polyline, and the heading and curvature are only informative.
+  bool exact_arc = false;
 };
 
 /// A synthetic tree: the mask (1 = tree, 0 = sky), its limbs, and its scale.
@@ -274,8 +303,21 @@ inline std::size_t segment_at(const limb_truth& limb, float s, float& t) noexcep
   return limb.diameter_px[i] + t * (limb.diameter_px[i + 1] - limb.diameter_px[i]);
 }
 
-/// The unit tangent (base → tip) at arc position `s`, from the limb's arc (heading + κ·s).
+/// The unit tangent (base → tip) at arc position `s`: for an `exact_arc` limb from the arc
+/// (heading + κ·s), otherwise the direction of the polyline segment holding `s` (the first
+/// non-degenerate one from there; straight up for a degenerate limb).
 [[nodiscard]] inline Eigen::Vector2f truth_tangent_at(const limb_truth& limb, float s) noexcept {
+  if (!limb.exact_arc) {
+    if (limb.centreline.size() < 2 || limb.arc_px.size() != limb.centreline.size())
+      return {0.0f, -1.0f};
+    float t = 0.0f;
+    for (std::size_t i = detail::segment_at(limb, s, t); i + 1 < limb.centreline.size(); ++i) {
+      const Eigen::Vector2f d = limb.centreline[i + 1] - limb.centreline[i];
+      const float n = d.norm();
+      if (n > 0.0f) return d / n;
+    }
+    return {0.0f, -1.0f};
+  }
   const float sc = std::clamp(s, 0.0f, length_px(limb));
   double sn = 0.0, cs = 0.0;
   detail::sin_cos(static_cast<double>(limb.base_heading_rad) +
@@ -293,7 +335,8 @@ inline std::size_t segment_at(const limb_truth& limb, float s, float& t) noexcep
       (180.0 / detail::pi));
 }
 
-/// The magnitude of the limb's curvature, 1/px (constant along a limb).
+/// The magnitude of the limb's curvature, 1/px: constant along an `exact_arc` limb, else its
+/// mean (`curvature_per_px`).
 [[nodiscard]] inline float truth_curvature_at(const limb_truth& limb, float /*s*/) noexcept {
   return std::abs(limb.curvature_per_px);
 }
@@ -441,6 +484,92 @@ inline void sample_arc(const limb_seed& seed, double kappa, double step, limb_tr
   }
 }
 
+/// A limb's heading away from its arc: low-frequency sinusoids (`tree_options::bending`) and
+/// kinks (`tree_options::kinks`). Zero everywhere when both are off.
+struct heading_wander {
+  struct wave {
+    double amplitude, omega, phase;
+  };
+  std::vector<wave> waves;
+  std::vector<std::pair<double, double>> kinks;  ///< (arc, heading jump), ascending arc
+  [[nodiscard]] bool empty() const noexcept { return waves.empty() && kinks.empty(); }
+  /// The heading offset at arc u (0 at the base: each wave starts at its phase's sine).
+  [[nodiscard]] double at(double u) const noexcept {
+    double h = 0.0;
+    for (const wave& w : waves) {
+      double s1 = 0.0, c1 = 0.0, s0 = 0.0, c0 = 0.0;
+      sin_cos(w.omega * u + w.phase, s1, c1);
+      sin_cos(w.phase, s0, c0);
+      h += w.amplitude * (s1 - s0);
+    }
+    for (const auto& k : kinks)
+      if (u >= k.first) h += k.second;
+    return h;
+  }
+};
+
+/// Draws the wander of a limb of `length` (a stream of its own, so the options off leave every
+/// other draw, and the tree, as before).
+inline heading_wander draw_wander(const tree_options& o, std::uint32_t stream, double length,
+                                  bool trunk) {
+  heading_wander w;
+  const double bending = std::clamp(static_cast<double>(o.bending), 0.0, 1.0);
+  const int kinks = trunk ? 0 : std::clamp(o.kinks, 0, 8);
+  if (!(bending > 0.0) && kinks == 0) return w;
+  tree_random rng(stream);
+  if (bending > 0.0) {
+    const int n = rng.integer(1, 3);
+    for (int j = 0; j < n; ++j) {
+      const double amplitude = bending * rng.uniform(4.0, 12.0) * deg * rng.sign();
+      const double periods = rng.uniform(0.3, 1.5);
+      const double phase = rng.uniform(0.0, 2.0 * pi);
+      const double span = std::max({length, 0.2 * static_cast<double>(o.height), 1.0});
+      w.waves.push_back({amplitude, 2.0 * pi * periods / span, phase});
+    }
+  }
+  const int count = rng.integer(0, kinks);
+  for (int k = 0; k < count; ++k)
+    w.kinks.emplace_back(length * rng.uniform(0.2, 0.8),
+                         rng.sign() * rng.uniform(20.0, 60.0) * deg);
+  std::sort(w.kinks.begin(), w.kinks.end());
+  return w;
+}
+
+/// The centreline of a limb whose heading is heading + κ·u + wander(u), clamped to ±`clamp`
+/// (rad; ≥ π: none), integrated at the midpoint of steps at most `step` long, with a vertex at
+/// every kink. Returns the heading at the tip.
+inline double sample_wandering(const limb_seed& seed, double kappa, const heading_wander& w,
+                               double clamp, double step, limb_truth& limb) {
+  auto heading = [&](double u) {
+    return std::clamp(seed.heading + kappa * u + w.at(u), -clamp, clamp);
+  };
+  std::vector<double> arcs;
+  const int n = std::clamp(static_cast<int>(std::ceil(seed.length / step)), 1, 8192);
+  for (int i = 0; i <= n; ++i) arcs.push_back(seed.length * i / n);
+  for (const auto& k : w.kinks) arcs.push_back(k.first);
+  std::sort(arcs.begin(), arcs.end());
+  arcs.erase(std::unique(arcs.begin(), arcs.end(), [](double a, double b) { return b - a < 1e-6; }),
+             arcs.end());
+  limb.centreline.clear();
+  limb.arc_px.clear();
+  Eigen::Vector2d p = seed.base;
+  limb.centreline.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+  for (std::size_t i = 1; i < arcs.size(); ++i) {
+    const double ds = arcs[i] - arcs[i - 1];
+    double hs = 0.0, hc = 0.0;
+    sin_cos(heading(0.5 * (arcs[i] + arcs[i - 1])), hs, hc);
+    p += ds * Eigen::Vector2d(hs, -hc);
+    limb.centreline.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()));
+  }
+  limb.arc_px.assign(limb.centreline.size(), 0.0f);
+  double acc = 0.0;
+  for (std::size_t i = 1; i < limb.centreline.size(); ++i) {
+    acc += static_cast<double>((limb.centreline[i] - limb.centreline[i - 1]).norm());
+    limb.arc_px[i] = static_cast<float>(acc);
+  }
+  return heading(seed.length);
+}
+
 /// Grows the branching structure (no noise) into `limbs` (appended: indices continue).
 inline void grow_tree(const tree_options& o, std::vector<limb_truth>& limbs,
                       const tree_plan& plan = {}) {
@@ -523,10 +652,23 @@ inline void grow_tree(const tree_options& o, std::vector<limb_truth>& limbs,
     limb.kind = seed.kind;
     limb.base_heading_rad = static_cast<float>(seed.heading);
     limb.curvature_per_px = static_cast<float>(kappa);
+    limb.exact_arc = true;
     limb.tree = seed.tree;
     double step = std::max(1.5, std::min(0.375 * d_tip, std::max(32.0, 0.1 * d_tip)));
     if (std::abs(kappa) > 0.0) step = std::min(step, 1.5 * deg / std::abs(kappa));
-    sample_arc(seed, kappa, step, limb);
+    const heading_wander wander = draw_wander(
+        o, o.seed ^ plan.seed_mix ^ 0x68e31da4u ^ (static_cast<std::uint32_t>(index) * 0x9e3779b1u),
+        seed.length, seed.kind == limb_kind::trunk);
+    double tip_heading = seed.heading + kappa * seed.length;
+    if (wander.empty()) {
+      sample_arc(seed, kappa, step, limb);
+    } else {
+      // `none`: structural limbs stay steep all along, however they wander.
+      const double clamp = none && !seed.decoy ? steep_heading_max : 4.0 * pi;
+      tip_heading = sample_wandering(seed, kappa, wander, clamp, std::min(step, 2.0), limb);
+      limb.exact_arc = false;
+      limb.curvature_per_px = static_cast<float>((tip_heading - seed.heading) / seed.length);
+    }
     limb.diameter_px.resize(limb.centreline.size());
     for (std::size_t i = 0; i < limb.centreline.size(); ++i) {
       const double u =
@@ -556,15 +698,17 @@ inline void grow_tree(const tree_options& o, std::vector<limb_truth>& limbs,
       side.parent_arc = static_cast<double>(s);
       side.base = {static_cast<double>(at.x()), static_cast<double>(at.y())};
       if (seed.kind == limb_kind::trunk) {
-        side.heading = side_sign * rng.uniform(58.0, 84.0) * deg;
+        side.heading = o.wide_side_angles ? here + side_sign * rng.uniform(20.0, 80.0) * deg
+                                          : side_sign * rng.uniform(58.0, 84.0) * deg;
       } else {
         // Diverge by 35–70° from the parent. Near a horizontal parent the clamp can take most
         // of that away (a limb heading 95° turned +50° clamps to 105°: 10° of divergence), and
         // the child then hugs its parent for its whole length, fused with it in the mask: no
         // tree grows so, so such a limb leaves on the other side instead.
-        const double divergence = rng.uniform(35.0, 70.0) * deg;
+        const double lo = o.wide_side_angles ? 20.0 : 35.0, hi = o.wide_side_angles ? 80.0 : 70.0;
+        const double divergence = rng.uniform(lo, hi) * deg;
         side.heading = clamp_heading(here + side_sign * divergence);
-        if (std::abs(side.heading - here) < 35.0 * deg) {
+        if (std::abs(side.heading - here) < lo * deg) {
           side_sign = -side_sign;
           side.heading = clamp_heading(here + side_sign * divergence);
         }
@@ -589,7 +733,6 @@ inline void grow_tree(const tree_options& o, std::vector<limb_truth>& limbs,
       share[static_cast<std::size_t>(k)] = k == 0 ? rng.uniform(1.3, 1.8) : rng.uniform(0.5, 1.0);
       total += share[static_cast<std::size_t>(k)];
     }
-    const double tip_heading = seed.heading + kappa * seed.length;
     const double lean = rng.sign();
     for (int k = 0; k < children; ++k) {
       const double d = d_tip * std::sqrt(share[static_cast<std::size_t>(k)] / total);
@@ -688,6 +831,7 @@ inline void add_crossings(const tree_options& o, std::vector<limb_truth>& limbs)
     limb.kind = limb_kind::limb;
     limb.base_heading_rad = static_cast<float>(seed.heading);
     limb.curvature_per_px = static_cast<float>(kappa);
+    limb.exact_arc = true;
     limb.tree = seed.tree;
     double step = std::max(1.5, std::min(0.375 * d, 32.0));
     if (std::abs(kappa) > 0.0) step = std::min(step, 1.5 * deg / std::abs(kappa));
@@ -761,6 +905,7 @@ inline void add_twigs(const tree_options& o, std::vector<limb_truth>& limbs) {
     twig.tree = parent.tree;
     twig.base_heading_rad = static_cast<float>(seed.heading);
     twig.curvature_per_px = static_cast<float>(kappa);
+    twig.exact_arc = true;
     sample_arc(seed, kappa, std::min(4.0, 1.5 * deg / std::max(std::abs(kappa), 1e-9)), twig);
     const double d_tip = std::max(1.0, 0.6 * seed.diameter);
     twig.diameter_px.resize(twig.centreline.size());
@@ -770,6 +915,115 @@ inline void add_twigs(const tree_options& o, std::vector<limb_truth>& limbs) {
       twig.diameter_px[i] = static_cast<float>(seed.diameter + (d_tip - seed.diameter) * u);
     }
     limbs.push_back(std::move(twig));
+  }
+}
+
+/// The smallest distance from the surface of the tapered capsule chain `limb` to point p, px
+/// (negative inside).
+inline float surface_distance(const limb_truth& limb, Eigen::Vector2f p) noexcept {
+  float best = std::numeric_limits<float>::infinity();
+  for (std::size_t k = 0; k + 1 < limb.centreline.size(); ++k) {
+    const Eigen::Vector2f q0 = limb.centreline[k];
+    const Eigen::Vector2f d = limb.centreline[k + 1] - q0;
+    const float len2 = d.squaredNorm();
+    const float t = len2 > 0.0f ? std::clamp((p - q0).dot(d) / len2, 0.0f, 1.0f) : 0.0f;
+    const float r =
+        0.5f * (limb.diameter_px[k] + t * (limb.diameter_px[k + 1] - limb.diameter_px[k]));
+    best = std::min(best, (p - (q0 + t * d)).norm() - r);
+  }
+  return best;
+}
+
+/// Adds `o.fragments` detached pieces of mask (`limb_kind::fragment`) near the crown: a point
+/// drawn in the box of the first tree's limbs above the trunk (the trunk's top third when it
+/// has none), then a short thick stub (25–90 mm, 1–4 diameters long), a thin stick (2–6 px,
+/// 3–8 % of the height) or a blob (a stub 0.3 diameters long, 30–80 px), straight, at any
+/// heading. It is kept only when its surface stays at least 4 px + 2 × (3.2 × noise + 1.5)
+/// (room for both sides' outline spurs and bumps) from every limb, twig and earlier fragment,
+/// so it is its own 8-connected component of the mask whatever the noise. At most 40 draws per
+/// fragment; `tree` is that of the nearest limb.
+inline void add_fragments(const tree_options& o, std::vector<limb_truth>& limbs) {
+  if (o.fragments <= 0 || limbs.empty()) return;
+  tree_random rng(o.seed ^ 0x165667b1u);
+  const double px_per_mm = 1.0 / static_cast<double>(o.mm_per_px);
+  float x0 = std::numeric_limits<float>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  for (const limb_truth& L : limbs) {
+    if (L.kind == limb_kind::trunk || L.kind == limb_kind::twig || L.tree != 0) continue;
+    for (const Eigen::Vector2f& p : L.centreline) {
+      x0 = std::min(x0, p.x());
+      y0 = std::min(y0, p.y());
+      x1 = std::max(x1, p.x());
+      y1 = std::max(y1, p.y());
+    }
+  }
+  if (!(x1 >= x0)) {  // a bare trunk: its top third
+    const limb_truth& T = limbs[0];
+    const Eigen::Vector2f a = truth_point_at(T, 0.67f * length_px(T)), b = T.centreline.back();
+    x0 = std::min(a.x(), b.x()) - 0.5f * T.diameter_px.back() - 20.0f;
+    x1 = std::max(a.x(), b.x()) + 0.5f * T.diameter_px.back() + 20.0f;
+    y0 = std::min(a.y(), b.y());
+    y1 = std::max(a.y(), b.y());
+  }
+  x0 = std::max(x0, 0.0f);
+  y0 = std::max(y0, 0.0f);
+  x1 = std::min(x1, static_cast<float>(o.width - 1));
+  y1 = std::min(y1, static_cast<float>(o.height - 1));
+  if (!(x1 >= x0 && y1 >= y0)) return;
+  const float gap = 4.0f + 2.0f * (3.2f * std::max(o.noise, 0.0f) + 1.5f);
+  const int wanted = std::min(o.fragments, 64);
+  for (int k = 0, draws = 0; k < wanted && draws < 40 * wanted; ++draws) {
+    const double cx = rng.uniform(static_cast<double>(x0), static_cast<double>(x1));
+    const double cy = rng.uniform(static_cast<double>(y0), static_cast<double>(y1));
+    const double shape = rng.uniform();
+    const double heading = rng.uniform(-pi, pi);
+    double d = 0.0, length = 0.0;
+    if (shape < 0.45) {  // a stub
+      d = rng.uniform(25.0, 90.0) * px_per_mm;
+      length = d * rng.uniform(1.0, 4.0);
+    } else if (shape < 0.8) {  // a stick
+      d = rng.uniform(2.0, 6.0);
+      length = static_cast<double>(o.height) * rng.uniform(0.03, 0.08);
+    } else {  // a blob
+      d = rng.uniform(30.0, 80.0);
+      length = 0.3 * d;
+    }
+    double hs = 0.0, hc = 0.0;
+    sin_cos(heading, hs, hc);
+    limb_seed seed;
+    seed.base = {cx - 0.5 * length * hs, cy + 0.5 * length * hc};
+    seed.heading = heading;
+    seed.length = std::max(length, 1.0);
+    limb_truth f;
+    f.parent = -1;
+    f.kind = limb_kind::fragment;
+    f.base_heading_rad = static_cast<float>(heading);
+    f.exact_arc = true;
+    sample_arc(seed, 0.0, std::max(1.0, std::min(0.375 * d, 16.0)), f);
+    f.diameter_px.resize(f.centreline.size());
+    for (std::size_t i = 0; i < f.centreline.size(); ++i)
+      f.diameter_px[i] = static_cast<float>(d * (1.0 - 0.15 * static_cast<double>(f.arc_px[i]) /
+                                                           static_cast<double>(f.arc_px.back())));
+    // Detached: every point of its surface (its centreline every px, minus its radius) clears
+    // every other piece by the gap.
+    bool clear = true;
+    float nearest = std::numeric_limits<float>::infinity();
+    const float len = length_px(f);
+    const int n = std::max(1, static_cast<int>(std::ceil(len)));
+    for (std::size_t li = 0; li < limbs.size() && clear; ++li) {
+      for (int i = 0; i <= n && clear; ++i) {
+        const float s = len * static_cast<float>(i) / static_cast<float>(n);
+        const float dist =
+            surface_distance(limbs[li], truth_point_at(f, s)) - 0.5f * truth_diameter_at(f, s);
+        clear = dist >= gap;
+        if (dist < nearest && limbs[li].kind != limb_kind::fragment) {
+          nearest = dist;
+          f.tree = limbs[li].tree;
+        }
+      }
+    }
+    if (!clear) continue;
+    limbs.push_back(std::move(f));
+    ++k;
   }
 }
 
@@ -841,7 +1095,8 @@ inline void add_holes(const tree_options& o, const std::vector<limb_truth>& limb
 /// Makes a synthetic tree (see the file comment). Limb 0 is the trunk; its bottom row is full
 /// width (the trunk's base cap lies below the image). Limbs are grown breadth-first, so a
 /// parent's index is below its children's. Order: the first tree, the second tree (`tree == 1`,
-/// its trunk has parent -1, one level fewer), crossing limbs, twigs (`limb_kind::twig`) last.
+/// its trunk has parent -1, one level fewer), crossing limbs, twigs (`limb_kind::twig`), then
+/// fragments (`limb_kind::fragment`, parent -1) last.
 /// With `noise == 0`, `twigs == 0`, `holes == 0` each tree is one 8-connected component (every
 /// limb starts on its parent's centreline, and only limbs whose base is inside the image are
 /// grown); the two trees are separate components unless their limbs happen to touch. The new
@@ -865,6 +1120,7 @@ inline void add_holes(const tree_options& o, const std::vector<limb_truth>& limb
   detail::add_second_tree(options, tree.limbs);
   detail::add_crossings(options, tree.limbs);
   detail::add_twigs(options, tree.limbs);
+  detail::add_fragments(options, tree.limbs);
   for (const limb_truth& limb : tree.limbs) {
     std::vector<float> radii(limb.diameter_px.size());
     for (std::size_t i = 0; i < radii.size(); ++i) radii[i] = 0.5f * limb.diameter_px[i];
@@ -906,21 +1162,37 @@ inline void add_holes(const tree_options& o, const std::vector<limb_truth>& limb
 
 /// The perching mechanism the truth is computed for. Defaults: the tendon-driven claw of Li et
 /// al. 2025 as the PLI paper uses it (`perch::tendon_claw`): a 180 mm wide drone, a 70 mm claw
-/// grasping 30–110 mm, on branches at most 35° from horizontal, bends no tighter than a 150 mm
-/// radius; 1.5 kg, eq. 4 stress at most 27 MPa / 2; at most 15 % other tree within 60 mm.
+/// grasping 30–110 mm, on branches at most 35° from horizontal that bend by at most 20° over the
+/// drone's width, with 70 mm of free space around the limb for the claw's fingers and the
+/// drone's body; 1.5 kg, eq. 4 stress at most 27 MPa / 2.
 struct claw_spec {
   float drone_width_mm = 180.0f;   ///< window length along the limb (arc length)
   float claw_mm = 70.0f;           ///< central region whose mean diameter the claw grasps
-  float diameter_min_mm = 30.0f;
-  float diameter_max_mm = 110.0f;
-  float max_slope_deg = 35.0f;     ///< chord of the window to the horizontal, folded [0, 90]
-  float max_curvature_per_mm = 1.0f / 150.0f;
-  float clearance_margin_mm = 60.0f;  ///< band beyond the limb's surface on each side
-  float clearance_max_share = 0.15f;  ///< share of other tree allowed in that band
-  float mass_kg = 1.5f;               ///< for the bending stress (paper eq. 4)
-  float max_stress_mpa = 13.5f;       ///< modulus of rupture 27 MPa / safety factor 2
-  float junction_gap_px = 2.0f;  ///< limbs closer than this (surface to surface) meet
-  float image_margin_px = 2.0f;  ///< the window's limb stays this far inside the image
+  float diameter_min_mm = 30.0f;   ///< the claw closes no tighter
+  float diameter_max_mm = 110.0f;  ///< the claw opens no wider
+  /// The claw diameter, in px, may be off by this much (a segmenter's or the distance map's
+  /// one-pixel error) and must still be in range: a limb at the edge of the range, a few px
+  /// wide, is no safe grasp however its truth diameter falls.
+  float resolution_px = 1.0f;
+  /// The local tangent at every point under the window, to the horizontal (image rows),
+  /// folded into [0, 90]: the claw slides off steeper limbs.
+  float max_slope_deg = 35.0f;
+  /// The tangents one window length apart, anywhere under the window, differ by at most this:
+  /// the drone's body and the claw's fingers need a limb that is straight over the drone's
+  /// width (a kink or a tight bend under it tilts the drone or opens the grasp).
+  float max_bend_deg = 20.0f;
+  /// Limbs thinner than this everywhere are twigs (never perches: they would not hold the
+  /// drone); the parts of other limbs thinner than this are no obstacle to the claw (leaves and
+  /// twigs give way).
+  float twig_max_mm = 20.0f;
+  /// The free space the claw's fingers and the drone need around the grasped limb: surface to
+  /// surface, to every other limb at least `twig_max_mm` thick there.
+  float clearance_mm = 70.0f;
+  /// The limb's surface under the window stays this far inside the image: a limb cut by the
+  /// edge (or touching it) may go on beyond it, out of sight.
+  float border_margin_px = 3.0f;
+  float mass_kg = 1.5f;          ///< for the bending stress (paper eq. 4)
+  float max_stress_mpa = 13.5f;  ///< modulus of rupture 27 MPa / safety factor 2
   float step_px = 1.0f;          ///< spacing of the window centres examined
 };
 
@@ -934,17 +1206,19 @@ struct feasible_stretch {
 };
 
 /// Why a window is not a perch (the first rule it breaks, in this order), or that it is one.
+/// See `perch_truth` for the rules.
 enum class window_verdict : std::uint8_t {
   feasible,
-  twig,           ///< twigs are clutter, never perches
-  off_limb,       ///< the window runs past the limb's base or tip
-  outside_image,  ///< part of the limb under the window is outside the image (or its margin)
-  junction,       ///< another limb meets this one under the window
-  diameter,       ///< claw-region mean diameter out of range
-  slope,
-  curvature,
-  bending,
-  clearance,
+  twig,           ///< rule 1: a twig (by kind, or thinner than `twig_max_mm` everywhere)
+  off_limb,       ///< rule 0: the window runs past the limb's base or tip
+  unsupported,    ///< rule 2: a fragment, or a limb of one: not attached to a grounded tree
+  outside_image,  ///< rule 3: the limb under the window is outside the image or its margin
+  clearance,      ///< rule 4: another limb's surface is nearer than `clearance_mm`
+  diameter,       ///< rule 5: claw-region mean diameter out of range
+  resolution,     ///< rule 6: that diameter ± `resolution_px` leaves the range
+  slope,          ///< rule 7: the limb is steeper than `max_slope_deg` somewhere under it
+  bend,           ///< rule 8: the limb bends more than `max_bend_deg` over a window length
+  bending,        ///< rule 9: bending stress (eq. 4) above `max_stress_mpa`
 };
 
 [[nodiscard]] constexpr const char* to_string(window_verdict v) noexcept {
@@ -952,28 +1226,40 @@ enum class window_verdict : std::uint8_t {
     case window_verdict::feasible: return "feasible";
     case window_verdict::twig: return "twig";
     case window_verdict::off_limb: return "off_limb";
+    case window_verdict::unsupported:
+      return "unsupported";
     case window_verdict::outside_image: return "outside_image";
-    case window_verdict::junction: return "junction";
+    case window_verdict::clearance:
+      return "clearance";
     case window_verdict::diameter: return "diameter";
+    case window_verdict::resolution:
+      return "resolution";
     case window_verdict::slope: return "slope";
-    case window_verdict::curvature: return "curvature";
+    case window_verdict::bend:
+      return "bend";
     case window_verdict::bending: return "bending";
-    case window_verdict::clearance: return "clearance";
   }
   return "unknown";
 }
 
-/// The truth about one window (measures are filled even when an earlier rule fails, except
-/// `clearance_share`, computed only for windows that pass every other rule; -1 otherwise).
+/// The truth about one window. Every measure is filled whatever the verdict (for a window that
+/// runs off its limb, over the part on the limb).
 struct window_truth {
   window_verdict verdict = window_verdict::off_limb;
   int limb = -1;
   float centre_arc_px = 0.0f;
   float claw_diameter_mm = 0.0f;  ///< mean truth diameter over the central claw region
-  float slope_deg = 0.0f;         ///< chord between the window's ends, folded into [0, 90]
-  float curvature_per_mm = 0.0f;  ///< |κ| of the limb
+  float slope_deg = 0.0f;         ///< steepest local tangent under the window, folded [0, 90]
+  float bend_deg = 0.0f;          ///< largest tangent change over one window length under it
+  /// The smallest surface-to-surface gap, mm, between this limb under the window and another
+  /// obstacle limb (rule 4: |p − q| − r_B(q) − r(p)); negative inside another limb (the window
+  /// reaches into its parent or over a child's base). Exact below 2 × `clearance_mm`; farther
+  /// limbs are not searched: +∞ when none is that near.
+  float clearance_mm = std::numeric_limits<float>::infinity();
+  /// The smallest distance, px, from the limb's surface under the window to an image edge.
+  float border_px = 0.0f;
+  float curvature_per_mm = 0.0f;  ///< information: the limb's mean |κ| (`curvature_per_px`)
   float stress_mpa = 0.0f;        ///< eq. 4 with the claw radius and the lever from the limb base
-  float clearance_share = -1.0f;  ///< other tree in the band (see `perch_truth`)
 };
 
 /// The nearest feasible window centre to a point.
@@ -983,56 +1269,74 @@ struct site_match {
   float distance_px = std::numeric_limits<float>::infinity();
 };
 
-/// Where a claw could perch on a synthetic tree, from its truth geometry.
+/// Where a claw could perch on a synthetic tree, from its drawn geometry (the limbs'
+/// centrelines, per-vertex diameters and the scale; never from the mask, so noise, holes and
+/// rasterisation do not move it): the physical definition the pipeline is judged by.
 ///
-/// A window is `drone_width_mm` of arc along a non-twig limb's truth centreline, centred at arc
-/// position c. It is feasible when all of these hold:
-///  1. it lies on the limb: [c − w/2, c + w/2] ⊂ [0, length];
-///  2. inside the image: every centreline point under it is at least its radius +
-///     `image_margin_px` from every image edge (a limb cut by the edge has no true end there);
-///  3. away from junctions, in two parts: (a) the drone's body: no centreline point under the
-///     window lies inside another non-twig limb or within `junction_gap_px` of its surface (the
-///     window must not start inside its parent, nor straddle a limb leaving it, a fork or a
-///     crossing limb); (b) the claw: over the central `claw_mm` no other non-twig limb comes
-///     within `junction_gap_px` of this limb's surface (the claw wraps around the limb). This
-///     covers forks at the tip, side limbs leaving it, its own base inside its parent, siblings
-///     at a fork, crossing limbs and the other tree. Twigs are not junctions: they are clutter,
-///     judged by clearance. (A first version asked (b) over the whole window; that forbade
-///     windows whose ends merely touch a sibling's or the parent's surface, which the drone can
-///     use: the body of the drone is above the limb, only the claw wraps around it.)
-///  4. claw-region diameter: the mean truth diameter over the central `claw_mm` within
+/// A window is `drone_width_mm` of arc (W px) along a limb's truth centreline, centred at arc
+/// position c, spanning [s0, s1] = [c − W/2, c + W/2]. "Every point under the window" means the
+/// centreline points at arcs in [s0, s1], sampled at most 0.5 px apart with both ends included;
+/// r(p) is the limb's radius there (linear between vertices, as drawn). It is feasible when all
+/// of these hold (the first rule broken names the verdict, in the order twig, off_limb,
+/// unsupported, outside_image, clearance, diameter, resolution, slope, bend, bending):
+///  0. `off_limb`: it lies on the limb, [s0, s1] ⊂ [0, length];
+///  1. `twig`: the limb is no twig: not of kind `twig`, and at least `twig_max_mm` thick
+///     somewhere;
+///  2. `unsupported`: the limb is attached to a grounded tree: it is no `fragment`, nor is any
+///     ancestor (via `parent`). Trunks (the second tree's too) are grounded;
+///  3. `outside_image` (border): every point under the window is at least r(p) +
+///     `border_margin_px` from every image edge (pixel centres at integer coordinates: the image
+///     spans [0, w − 1] × [0, h − 1]). A limb cut by the edge may go on, out of sight;
+///  4. `clearance`: every point p under the window is at least r(p) + `clearance_mm` (in px)
+///     from the surface of every obstacle: every other limb B (of either tree, fragments too)
+///     that is not a twig by kind and not hidden (see below), where B is at least
+///     `twig_max_mm` thick. For each segment of B's tapered-capsule polyline (its part at least
+///     that thick), the surface distance is |p − q| − r_B(q), q the closest point of the segment
+///     and r_B interpolated there. A limb's base lies on its parent's axis (so it is drawn), so
+///     this one rule covers what junction rules used to: a window near its own base is inside its
+///     parent (negative distance), a window over a child's base, a fork, a sibling, a crossing
+///     limb, the other tree or a fragment too close all fail. Twigs and thin limbs are clutter
+///     the claw pushes aside. A hidden limb lies wholly inside one other limb (within half a
+///     pixel), adds no pixel to the mask and is no obstacle (the generator can grow a thin side
+///     limb almost along its parent);
+///  5. `diameter`: the mean truth diameter over the central `claw_mm` in
 ///     [diameter_min_mm, diameter_max_mm];
-///  5. slope of the chord between the window's end points, folded into [0°, 90°], at most
-///     `max_slope_deg` (the image's rows are horizontal);
-///  6. curvature: the limb's |κ| (constant per limb) at most `max_curvature_per_mm`;
-///  7. bending (paper eq. 4): σ = 4·m·g·L/(π·r³) ≤ `max_stress_mpa`, r the claw-region radius,
+///  6. `resolution`: that diameter d in px, d − `resolution_px` ≥ diameter_min_mm / mm_per_px
+///     and d + `resolution_px` ≤ diameter_max_mm / mm_per_px: a pixel of error must not take
+///     the grasp out of range;
+///  7. `slope`: at every point under the window the local tangent of the centreline (the
+///     direction of the polyline segment holding it; at a vertex both adjacent segments) is at
+///     most `max_slope_deg` from horizontal (folded into [0°, 90°], image rows horizontal);
+///  8. `bend`: for every s in [s0, s1], the tangents at max(s − W/2, 0) and min(s + W/2,
+///     length) differ by at most `max_bend_deg` (a tangent here is the chord over ±1 px of arc,
+///     so a vertex of a finely sampled polyline is not a kink, a real kink is);
+///  9. `bending` (paper eq. 4): σ = 4·m·g·L/(π·r³) ≤ `max_stress_mpa`, r the claw-region radius,
 ///     L the horizontal distance from the limb's base (where it leaves its parent: the real
-///     cantilever root) to the window centre;
-///  8. clearance: in the band along the window's chord (its end points), the limb's radius at
-///     the centre + 0.5 px (the distance-map radius of a centreline pixel) + `clearance_margin_mm`
-///     to each side, at most `clearance_max_share` of the pixels outside the own strip
-///     (radius + 0.5 + 1.5 px each side of the chord) are tree pixels of the mask. This is the
-///     definition `perch::clearance` applies, evaluated on the true chord and radius and on the
-///     real mask (twigs, crossing limbs, noise, the other tree all count), clipped to the image.
-/// Monotonicity always holds (each limb is one gentle circular arc) and is not checked.
+///     cantilever root) to the window centre.
+/// Curvature is reported (`curvature_per_mm`, the limb's mean) but not judged: the bend rule
+/// bounds what matters over the drone's width. Monotonicity is not checked.
 ///
 /// Windows are examined every `step_px` of arc; consecutive feasible centres form a
 /// `feasible_stretch`. A site p (a pixel the pipeline reports as a window centre) is feasible
-/// when it lies within a tolerance of the centreline of a stretch trimmed by w/2 at each end,
+/// when it lies within a tolerance of the centreline of a stretch trimmed by W/2 at each end,
 /// i.e. of a feasible window centre.
 ///
 /// Keeps a pointer to `tree`: the tree must outlive this object. Host code; allocates.
-/// Complexity: O(limb pairs with overlapping boxes × samples × segments) for the junctions,
-/// O(Σ limb length / step × window) for the windows: a few ms for a 960×720 tree.
+/// Complexity: per limb, its points every 0.5 px against the obstacle segments whose boxes come
+/// near it (clearance, border and bend precomputed there), then O(W) per window: a few ms for a
+/// 960×720 tree.
 class perch_truth {
  public:
   explicit perch_truth(const synthetic_tree& tree, const claw_spec& spec = {})
       : tree_(&tree), spec_(spec) {
-    const float mmpp = tree.mm_per_px > 0.0f ? tree.mm_per_px : 1.0f;
-    window_px_ = spec.drone_width_mm / mmpp;
-    claw_half_px_ = 0.5f * spec.claw_mm / mmpp;
-    build_prefix();
-    build_junctions();
+    mmpp_ = tree.mm_per_px > 0.0f ? tree.mm_per_px : 1.0f;
+    window_px_ = spec.drone_width_mm / mmpp_;
+    claw_half_px_ = 0.5f * spec.claw_mm / mmpp_;
+    clearance_px_ = spec.clearance_mm / mmpp_;
+    thick_px_ = spec.twig_max_mm / mmpp_;
+    build_support();
+    build_obstacles();
+    build_profiles();
     build_stretches();
   }
 
@@ -1045,15 +1349,6 @@ class perch_truth {
   }
   /// Whether the claw can perch anywhere on the tree.
   [[nodiscard]] bool has_perch() const noexcept { return !stretches_.empty(); }
-  /// Arc intervals of `limb` whose centreline lies inside (or within the gap of) another limb
-  /// (rule 3a), merged, ascending.
-  [[nodiscard]] const std::vector<std::pair<float, float>>& junctions(int limb) const {
-    return junctions_[static_cast<std::size_t>(limb)];
-  }
-  /// Arc intervals of `limb` whose surface touches another limb (rule 3b), merged, ascending.
-  [[nodiscard]] const std::vector<std::pair<float, float>>& contacts(int limb) const {
-    return contacts_[static_cast<std::size_t>(limb)];
-  }
 
   /// The window of `limb` centred at arc `centre_arc_px`, judged by the rules above.
   [[nodiscard]] window_truth window(int limb, float centre_arc_px) const {
@@ -1061,46 +1356,67 @@ class perch_truth {
     out.limb = limb;
     out.centre_arc_px = centre_arc_px;
     if (limb < 0 || static_cast<std::size_t>(limb) >= tree_->limbs.size()) return out;
-    const limb_truth& L = tree_->limbs[static_cast<std::size_t>(limb)];
-    const float mmpp = tree_->mm_per_px;
+    const auto li = static_cast<std::size_t>(limb);
+    const limb_truth& L = tree_->limbs[li];
+    if (L.centreline.size() < 2 || L.diameter_px.size() != L.centreline.size() ||
+        L.arc_px.size() != L.centreline.size())
+      return out;
+    const float len = length_px(L);
     const float half = 0.5f * window_px_;
     const float s0 = centre_arc_px - half, s1 = centre_arc_px + half;
-    // Measures (clamped to the limb for windows that run off it).
+    const float c0 = std::clamp(s0, 0.0f, len), c1 = std::clamp(s1, 0.0f, len);
+    // Measures (over the part of the window on the limb).
     double dsum = 0.0;
     int dn = 0;
     for (float u = -claw_half_px_; u <= claw_half_px_ + 1e-3f; u += 0.5f, ++dn)
       dsum += static_cast<double>(truth_diameter_at(L, centre_arc_px + u));
-    out.claw_diameter_mm = static_cast<float>(dsum / std::max(dn, 1)) * mmpp;
-    const Eigen::Vector2f a = truth_point_at(L, s0), b = truth_point_at(L, s1);
-    out.slope_deg = static_cast<float>(
-        std::atan2(std::abs(static_cast<double>(b.y() - a.y())),
-                   std::abs(static_cast<double>(b.x() - a.x()))) *
-        (180.0 / detail::pi));
-    out.curvature_per_mm = std::abs(L.curvature_per_px) / mmpp;
+    out.claw_diameter_mm = static_cast<float>(dsum / std::max(dn, 1)) * mmpp_;
+    out.slope_deg = max_slope_deg(L, c0, c1);
+    const profile& pr = profiles_[li];
+    out.clearance_mm = clearance_gap_px(li, c0);
+    out.border_px = border_px(L, c0);
+    out.bend_deg = bend_deg(L, c0);
+    out.clearance_mm = std::min(out.clearance_mm, clearance_gap_px(li, c1));
+    out.border_px = std::min(out.border_px, border_px(L, c1));
+    out.bend_deg = std::max(out.bend_deg, bend_deg(L, c1));
+    if (pr.step > 0.0f) {
+      const auto last = static_cast<std::ptrdiff_t>(pr.gap.size()) - 1;
+      const auto k0 =
+          std::max<std::ptrdiff_t>(0, static_cast<std::ptrdiff_t>(std::ceil(c0 / pr.step)));
+      const auto k1 =
+          std::min<std::ptrdiff_t>(last, static_cast<std::ptrdiff_t>(std::floor(c1 / pr.step)));
+      for (std::ptrdiff_t k = k0; k <= k1; ++k) {
+        const auto uk = static_cast<std::size_t>(k);
+        out.clearance_mm = std::min(out.clearance_mm, pr.gap[uk]);
+        out.border_px = std::min(out.border_px, pr.border[uk]);
+        out.bend_deg = std::max(out.bend_deg, pr.bend[uk]);
+      }
+    }
+    out.clearance_mm *= mmpp_;  // px → mm (∞ stays ∞)
+    out.curvature_per_mm = std::abs(L.curvature_per_px) / mmpp_;
     const float lever_mm =
-        std::abs(truth_point_at(L, centre_arc_px).x() - L.centreline.front().x()) * mmpp;
+        std::abs(truth_point_at(L, centre_arc_px).x() - L.centreline.front().x()) * mmpp_;
     const float r_m = 0.5f * out.claw_diameter_mm / 1000.0f;
     out.stress_mpa = r_m > 0.0f ? 4.0f * spec_.mass_kg * 9.80665f * (lever_mm / 1000.0f) /
                                       (static_cast<float>(detail::pi) * r_m * r_m * r_m) / 1.0e6f
                                 : std::numeric_limits<float>::infinity();
     // Rules, in order.
     auto verdict = [&]() {
-      if (L.kind == limb_kind::twig) return window_verdict::twig;
-      if (s0 < 0.0f || s1 > length_px(L)) return window_verdict::off_limb;
-      if (!inside_image(L, s0, s1)) return window_verdict::outside_image;
-      for (const auto& j : junctions(limb))
-        if (j.first <= s1 && j.second >= s0) return window_verdict::junction;
-      for (const auto& j : contacts(limb))
-        if (j.first <= centre_arc_px + claw_half_px_ && j.second >= centre_arc_px - claw_half_px_)
-          return window_verdict::junction;
-      if (out.claw_diameter_mm < spec_.diameter_min_mm ||
-          out.claw_diameter_mm > spec_.diameter_max_mm)
+      if (is_twig_[li] != 0) return window_verdict::twig;
+      if (s0 < 0.0f || s1 > len) return window_verdict::off_limb;
+      if (supported_[li] == 0) return window_verdict::unsupported;
+      if (!(out.border_px >= spec_.border_margin_px)) return window_verdict::outside_image;
+      if (!(out.clearance_mm >= spec_.clearance_mm)) return window_verdict::clearance;
+      if (!(out.claw_diameter_mm >= spec_.diameter_min_mm &&
+            out.claw_diameter_mm <= spec_.diameter_max_mm))
         return window_verdict::diameter;
-      if (out.slope_deg > spec_.max_slope_deg) return window_verdict::slope;
-      if (out.curvature_per_mm > spec_.max_curvature_per_mm) return window_verdict::curvature;
-      if (out.stress_mpa > spec_.max_stress_mpa) return window_verdict::bending;
-      out.clearance_share = clearance_share(a, b, 0.5f * truth_diameter_at(L, centre_arc_px));
-      if (out.clearance_share > spec_.clearance_max_share) return window_verdict::clearance;
+      const float d_px = out.claw_diameter_mm / mmpp_;
+      if (!(d_px - spec_.resolution_px >= spec_.diameter_min_mm / mmpp_ &&
+            d_px + spec_.resolution_px <= spec_.diameter_max_mm / mmpp_))
+        return window_verdict::resolution;
+      if (!(out.slope_deg <= spec_.max_slope_deg)) return window_verdict::slope;
+      if (!(out.bend_deg <= spec_.max_bend_deg)) return window_verdict::bend;
+      if (!(out.stress_mpa <= spec_.max_stress_mpa)) return window_verdict::bending;
       return window_verdict::feasible;
     };
     out.verdict = verdict();
@@ -1147,211 +1463,232 @@ class perch_truth {
   }
 
  private:
-  void build_prefix() {
-    const int w = tree_->mask.width(), h = tree_->mask.height();
-    prefix_.assign(static_cast<std::size_t>(w + 1) * static_cast<std::size_t>(h), 0u);
-    for (int y = 0; y < h; ++y) {
-      std::uint32_t* row = prefix_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w + 1);
-      const auto in = tree_->mask.row(y);
-      for (int x = 0; x < w; ++x) row[x + 1] = row[x] + (in[static_cast<std::size_t>(x)] != 0 ? 1u : 0u);
+  struct box {
+    float x0 = std::numeric_limits<float>::infinity(), y0 = x0;
+    float x1 = -std::numeric_limits<float>::infinity(), y1 = x1;
+    void add(Eigen::Vector2f p, float r) noexcept {
+      x0 = std::min(x0, p.x() - r);
+      y0 = std::min(y0, p.y() - r);
+      x1 = std::max(x1, p.x() + r);
+      y1 = std::max(y1, p.y() + r);
     }
-  }
-
-  /// Tree pixels of row y in columns [x0, x1] (clipped).
-  [[nodiscard]] std::uint32_t count_row(int y, int x0, int x1) const noexcept {
-    const int w = tree_->mask.width();
-    x0 = std::max(x0, 0);
-    x1 = std::min(x1, w - 1);
-    if (y < 0 || y >= tree_->mask.height() || x1 < x0) return 0;
-    const std::uint32_t* row = prefix_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(w + 1);
-    return row[x1 + 1] - row[x0];
-  }
-
-  /// Rule 8: the share of tree pixels in the band along chord a–b outside the own strip.
-  [[nodiscard]] float clearance_share(Eigen::Vector2f a, Eigen::Vector2f b, float radius_px) const {
-    const float mmpp = tree_->mm_per_px;
-    const Eigen::Vector2f chord = b - a;
-    const float len = chord.norm();
-    if (!(len > 0.0f)) return 1.0f;
-    const Eigen::Vector2f along = chord / len;
-    const Eigen::Vector2f across(-along.y(), along.x());
-    const Eigen::Vector2f c = 0.5f * (a + b);
-    const float own = radius_px + 0.5f;
-    const float half_len = 0.5f * len;
-    const float half_w = own + spec_.clearance_margin_mm / mmpp;
-    const float strip = own + 1.5f;
-    // Columns x of row y with |n·(p − c)| ≤ r for a unit normal n: an interval (or all / none).
-    auto slab = [](const Eigen::Vector2f& n, float centre, float r, float y, float& x0, float& x1) {
-      const float lo = centre - r - n.y() * y, hi = centre + r - n.y() * y;
-      if (std::abs(n.x()) < 1e-6f) {
-        if (lo > 0.0f || hi < 0.0f) return false;
-        return true;
-      }
-      float u = lo / n.x(), v = hi / n.x();
-      if (u > v) std::swap(u, v);
-      x0 = std::max(x0, u);
-      x1 = std::min(x1, v);
-      return x0 <= x1;
-    };
-    const float reach = half_len + half_w;
-    const int h = tree_->mask.height(), w = tree_->mask.width();
-    const int y0 = std::max(0, static_cast<int>(std::floor(c.y() - reach)));
-    const int y1 = std::min(h - 1, static_cast<int>(std::ceil(c.y() + reach)));
-    std::uint64_t tree = 0, total = 0;
-    for (int y = y0; y <= y1; ++y) {
-      const auto fy = static_cast<float>(y);
-      float x0 = -1e30f, x1 = 1e30f;
-      if (!slab(along, along.dot(c), half_len, fy, x0, x1)) continue;
-      if (!slab(across, across.dot(c), half_w, fy, x0, x1)) continue;
-      const int ix0 = std::max(0, static_cast<int>(std::ceil(x0)));
-      const int ix1 = std::min(w - 1, static_cast<int>(std::floor(x1)));
-      if (ix1 < ix0) continue;
-      std::uint64_t row_tree = count_row(y, ix0, ix1);
-      auto row_total = static_cast<std::uint64_t>(ix1 - ix0 + 1);
-      float s0 = -1e30f, s1 = 1e30f;
-      if (slab(across, across.dot(c), strip, fy, s0, s1)) {
-        const int o0 = std::max(ix0, static_cast<int>(std::ceil(s0)));
-        const int o1 = std::min(ix1, static_cast<int>(std::floor(s1)));
-        if (o0 <= o1) {
-          row_tree -= count_row(y, o0, o1);
-          row_total -= static_cast<std::uint64_t>(o1 - o0 + 1);
-        }
-      }
-      tree += row_tree;
-      total += row_total;
+    /// Whether the box comes within `reach` of point p (in x and in y).
+    [[nodiscard]] bool near(Eigen::Vector2f p, float reach) const noexcept {
+      return p.x() + reach >= x0 && p.x() - reach <= x1 && p.y() + reach >= y0 &&
+             p.y() - reach <= y1;
     }
-    return total == 0 ? 0.0f : static_cast<float>(static_cast<double>(tree) / static_cast<double>(total));
-  }
-
-  /// Rule 2 for arcs [s0, s1] of L.
-  [[nodiscard]] bool inside_image(const limb_truth& L, float s0, float s1) const {
-    const float m = spec_.image_margin_px;
-    const auto W = static_cast<float>(tree_->mask.width() - 1);
-    const auto H = static_cast<float>(tree_->mask.height() - 1);
-    const int n = std::max(1, static_cast<int>(std::ceil((s1 - s0) / 2.0f)));
-    for (int i = 0; i <= n; ++i) {
-      const float s = s0 + (s1 - s0) * static_cast<float>(i) / static_cast<float>(n);
-      const Eigen::Vector2f q = truth_point_at(L, s);
-      const float r = 0.5f * truth_diameter_at(L, s) + m;
-      if (q.x() < r || q.y() < r || q.x() > W - r || q.y() > H - r) return false;
+    [[nodiscard]] bool overlaps(const box& o, float reach) const noexcept {
+      return x1 + reach >= o.x0 && o.x1 + reach >= x0 && y1 + reach >= o.y0 && o.y1 + reach >= y0;
     }
-    return true;
+  };
+
+  /// The part of an obstacle segment at least `twig_max_mm` thick: a tapered capsule.
+  struct obstacle {
+    Eigen::Vector2f a, b;
+    float ra, rb;
+    std::size_t limb;
+    box bounds;
+  };
+
+  /// Per limb, on a grid of arcs k·step (k = 0 … n, step ≤ 0.5 px): the clearance gap and the
+  /// border distance (px) and the bend (deg) there.
+  struct profile {
+    float step = 0.0f;
+    std::vector<float> gap, border, bend;
+    std::vector<std::size_t> near;  ///< obstacles whose boxes come within reach of the limb
+  };
+
+  [[nodiscard]] static bool well_formed(const limb_truth& L) noexcept {
+    return L.centreline.size() >= 2 && L.diameter_px.size() == L.centreline.size() &&
+           L.arc_px.size() == L.centreline.size();
   }
 
-  /// Rule 3: per limb, the arc positions where another non-twig limb's surface comes within the
-  /// gap (3a) or the limb's radius + gap (3b) of its centreline, sampled every 0.5 px, merged
-  /// into intervals.
-  void build_junctions() {
+  /// Rules 1 and 2 per limb.
+  void build_support() {
     const auto& limbs = tree_->limbs;
-    junctions_.assign(limbs.size(), {});
-    contacts_.assign(limbs.size(), {});
-    struct box {
-      float x0, y0, x1, y1;
-    };
-    std::vector<box> boxes(limbs.size());
+    is_twig_.assign(limbs.size(), 0);
+    supported_.assign(limbs.size(), 1);
     for (std::size_t i = 0; i < limbs.size(); ++i) {
-      box bx{1e30f, 1e30f, -1e30f, -1e30f};
       const limb_truth& L = limbs[i];
-      for (std::size_t k = 0; k < L.centreline.size(); ++k) {
-        const float r = 0.5f * L.diameter_px[k];
-        bx.x0 = std::min(bx.x0, L.centreline[k].x() - r);
-        bx.y0 = std::min(bx.y0, L.centreline[k].y() - r);
-        bx.x1 = std::max(bx.x1, L.centreline[k].x() + r);
-        bx.y1 = std::max(bx.y1, L.centreline[k].y() + r);
+      float d_max = 0.0f;
+      for (const float d : L.diameter_px) d_max = std::max(d_max, d);
+      is_twig_[i] = L.kind == limb_kind::twig || !(d_max >= thick_px_) ? 1 : 0;
+      // Walk up the parents (at most limbs.size() steps: a malformed cycle ends the walk).
+      int at = static_cast<int>(i);
+      for (std::size_t steps = 0;
+           at >= 0 && static_cast<std::size_t>(at) < limbs.size() && steps <= limbs.size();
+           ++steps) {
+        if (limbs[static_cast<std::size_t>(at)].kind == limb_kind::fragment) {
+          supported_[i] = 0;
+          break;
+        }
+        at = limbs[static_cast<std::size_t>(at)].parent;
       }
-      boxes[i] = bx;
     }
-    const float gap = spec_.junction_gap_px;
-    // A limb whose every disc lies inside one other limb (within half a pixel, the mask's
-    // rasterisation) is not in the mask at all: it adds no pixel, so there is nothing to grasp
-    // around or to avoid, and it makes no junction. (The generator can grow a thin side limb
-    // almost along its parent; it then stays hidden inside it.)
-    std::vector<std::uint8_t> hidden(limbs.size(), 0);
+  }
+
+  /// Whether limb `bi` lies wholly inside another limb (within half a pixel): it is not in the
+  /// mask at all, adds no pixel, and is no obstacle.
+  [[nodiscard]] bool hidden(std::size_t bi, const std::vector<box>& boxes) const {
+    const auto& limbs = tree_->limbs;
+    const limb_truth& B = limbs[bi];
+    const float len = length_px(B);
+    const int n = std::max(1, static_cast<int>(std::ceil(len)));
+    for (std::size_t ci = 0; ci < limbs.size(); ++ci) {
+      const limb_truth& C = limbs[ci];
+      if (ci == bi || C.kind == limb_kind::twig || !well_formed(C)) continue;
+      if (boxes[ci].x0 > boxes[bi].x0 + 0.5f || boxes[ci].y0 > boxes[bi].y0 + 0.5f ||
+          boxes[ci].x1 < boxes[bi].x1 - 0.5f || boxes[ci].y1 < boxes[bi].y1 - 0.5f)
+        continue;  // B's box is not inside C's: B cannot be inside C
+      bool inside = true;
+      for (int i = 0; i <= n && inside; ++i) {
+        const float s = len * static_cast<float>(i) / static_cast<float>(n);
+        const Eigen::Vector2f p = truth_point_at(B, s);
+        const float rb = 0.5f * truth_diameter_at(B, s);
+        bool in = false;
+        for (std::size_t k = 0; k + 1 < C.centreline.size() && !in; ++k) {
+          const Eigen::Vector2f q0 = C.centreline[k];
+          const Eigen::Vector2f d = C.centreline[k + 1] - q0;
+          const float len2 = d.squaredNorm();
+          const float t = len2 > 0.0f ? std::clamp((p - q0).dot(d) / len2, 0.0f, 1.0f) : 0.0f;
+          const float rc =
+              0.5f * (C.diameter_px[k] + t * (C.diameter_px[k + 1] - C.diameter_px[k]));
+          in = (p - (q0 + t * d)).norm() + rb <= rc + 0.5f;
+        }
+        inside = in;
+      }
+      if (inside) return true;
+    }
+    return false;
+  }
+
+  /// The obstacles of rule 4: the parts at least `twig_max_mm` thick of the segments of every
+  /// limb that is not a twig by kind and not hidden.
+  void build_obstacles() {
+    const auto& limbs = tree_->limbs;
+    boxes_.assign(limbs.size(), box{});
+    for (std::size_t i = 0; i < limbs.size(); ++i)
+      if (well_formed(limbs[i]))
+        for (std::size_t k = 0; k < limbs[i].centreline.size(); ++k)
+          boxes_[i].add(limbs[i].centreline[k], 0.5f * limbs[i].diameter_px[k]);
     for (std::size_t bi = 0; bi < limbs.size(); ++bi) {
       const limb_truth& B = limbs[bi];
-      if (B.kind == limb_kind::twig || B.centreline.size() < 2) continue;
-      const float len = length_px(B);
-      const int n = std::max(1, static_cast<int>(std::ceil(len)));
-      for (std::size_t ci = 0; ci < limbs.size() && hidden[bi] == 0; ++ci) {
-        const limb_truth& C = limbs[ci];
-        if (ci == bi || C.kind == limb_kind::twig || C.centreline.size() < 2) continue;
-        bool inside = true;
-        for (int i = 0; i <= n && inside; ++i) {
-          const float s = len * static_cast<float>(i) / static_cast<float>(n);
-          const Eigen::Vector2f p = truth_point_at(B, s);
-          const float rb = 0.5f * truth_diameter_at(B, s);
-          bool in = false;
-          for (std::size_t k = 0; k + 1 < C.centreline.size() && !in; ++k) {
-            const Eigen::Vector2f q0 = C.centreline[k];
-            const Eigen::Vector2f d = C.centreline[k + 1] - q0;
-            const float len2 = d.squaredNorm();
-            const float t = len2 > 0.0f ? std::clamp((p - q0).dot(d) / len2, 0.0f, 1.0f) : 0.0f;
-            const float rc =
-                0.5f * (C.diameter_px[k] + t * (C.diameter_px[k + 1] - C.diameter_px[k]));
-            in = (p - (q0 + t * d)).norm() + rb <= rc + 0.5f;
-          }
-          inside = in;
-        }
-        hidden[bi] = inside ? 1 : 0;
+      if (B.kind == limb_kind::twig || !well_formed(B) || hidden(bi, boxes_)) continue;
+      for (std::size_t k = 0; k + 1 < B.centreline.size(); ++k) {
+        float t0 = 0.0f, t1 = 1.0f;
+        const float d0 = B.diameter_px[k], d1 = B.diameter_px[k + 1];
+        if (!(d0 >= thick_px_) && !(d1 >= thick_px_)) continue;
+        if (!(d0 >= thick_px_)) t0 = (thick_px_ - d0) / (d1 - d0);
+        if (!(d1 >= thick_px_)) t1 = (thick_px_ - d0) / (d1 - d0);
+        const Eigen::Vector2f p0 = B.centreline[k], dp = B.centreline[k + 1] - p0;
+        obstacle ob;
+        ob.a = p0 + t0 * dp;
+        ob.b = p0 + t1 * dp;
+        ob.ra = 0.5f * (d0 + t0 * (d1 - d0));
+        ob.rb = 0.5f * (d0 + t1 * (d1 - d0));
+        ob.limb = bi;
+        ob.bounds.add(ob.a, ob.ra);
+        ob.bounds.add(ob.b, ob.rb);
+        obstacles_.push_back(ob);
       }
     }
-    for (std::size_t ai = 0; ai < limbs.size(); ++ai) {
-      const limb_truth& A = limbs[ai];
-      if (A.kind == limb_kind::twig || A.centreline.size() < 2) continue;
-      const float len = length_px(A);
+  }
+
+  /// Rule 4 at arc s of limb li: the smallest |p − q| − r_B(q) − r(p), px, over the obstacles
+  /// of other limbs within reach (∞ when none).
+  [[nodiscard]] float clearance_gap_px(std::size_t li, float s) const {
+    const limb_truth& L = tree_->limbs[li];
+    const Eigen::Vector2f p = truth_point_at(L, s);
+    const float r = 0.5f * truth_diameter_at(L, s);
+    const float reach = r + 2.0f * clearance_px_;
+    float best = std::numeric_limits<float>::infinity();
+    for (const std::size_t oi : profiles_[li].near) {
+      const obstacle& ob = obstacles_[oi];
+      if (!ob.bounds.near(p, reach)) continue;
+      const Eigen::Vector2f d = ob.b - ob.a;
+      const float len2 = d.squaredNorm();
+      const float t = len2 > 0.0f ? std::clamp((p - ob.a).dot(d) / len2, 0.0f, 1.0f) : 0.0f;
+      const float gap = (p - (ob.a + t * d)).norm() - (ob.ra + t * (ob.rb - ob.ra)) - r;
+      best = std::min(best, gap);
+    }
+    return best;
+  }
+
+  /// Rule 3 at arc s: the distance from the limb's surface to the nearest image edge, px.
+  [[nodiscard]] float border_px(const limb_truth& L, float s) const {
+    const Eigen::Vector2f q = truth_point_at(L, s);
+    const auto W = static_cast<float>(tree_->mask.width() - 1);
+    const auto H = static_cast<float>(tree_->mask.height() - 1);
+    return std::min({q.x(), q.y(), W - q.x(), H - q.y()}) - 0.5f * truth_diameter_at(L, s);
+  }
+
+  /// The tangent at arc s: the chord over ±1 px of arc (clamped to the limb).
+  [[nodiscard]] static Eigen::Vector2d chord_tangent(const limb_truth& L, float s) {
+    const float len = length_px(L);
+    const Eigen::Vector2f d =
+        truth_point_at(L, std::min(s + 1.0f, len)) - truth_point_at(L, std::max(s - 1.0f, 0.0f));
+    return {static_cast<double>(d.x()), static_cast<double>(d.y())};
+  }
+
+  /// The angle between two directions, degrees (0 when one is degenerate).
+  [[nodiscard]] static float angle_deg(const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
+    const double cross = u.x() * v.y() - u.y() * v.x();
+    const double dot = u.dot(v);
+    if (cross == 0.0 && dot == 0.0) return 0.0f;
+    return static_cast<float>(std::atan2(std::abs(cross), dot) * (180.0 / detail::pi));
+  }
+
+  /// Rule 8 at arc s: the angle between the tangents at max(s − W/2, 0) and min(s + W/2, len).
+  [[nodiscard]] float bend_deg(const limb_truth& L, float s) const {
+    const float half = 0.5f * window_px_;
+    return angle_deg(chord_tangent(L, std::max(s - half, 0.0f)),
+                     chord_tangent(L, std::min(s + half, length_px(L))));
+  }
+
+  /// Rule 7 over arcs [a, b]: the steepest polyline segment overlapping it, deg in [0, 90].
+  [[nodiscard]] static float max_slope_deg(const limb_truth& L, float a, float b) {
+    float t = 0.0f;
+    std::size_t i = detail::segment_at(L, a, t);
+    // At a vertex exactly at a, the segment before it counts too.
+    if (i > 0 && L.arc_px[i] >= a) --i;
+    float worst = 0.0f;
+    for (; i + 1 < L.centreline.size() && L.arc_px[i] <= b; ++i) {
+      const Eigen::Vector2f d = L.centreline[i + 1] - L.centreline[i];
+      if (!(d.squaredNorm() > 0.0f)) continue;
+      worst = std::max(worst, static_cast<float>(std::atan2(std::abs(static_cast<double>(d.y())),
+                                                            std::abs(static_cast<double>(d.x()))) *
+                                                 (180.0 / detail::pi)));
+    }
+    return worst;
+  }
+
+  /// The per-limb grids of rules 3, 4 and 8.
+  void build_profiles() {
+    const auto& limbs = tree_->limbs;
+    profiles_.assign(limbs.size(), profile{});
+    for (std::size_t li = 0; li < limbs.size(); ++li) {
+      const limb_truth& L = limbs[li];
+      if (!well_formed(L)) continue;
+      profile& pr = profiles_[li];
+      float r_max = 0.0f;
+      for (const float d : L.diameter_px) r_max = std::max(r_max, 0.5f * d);
+      const float reach = r_max + 2.0f * clearance_px_;
+      for (std::size_t oi = 0; oi < obstacles_.size(); ++oi)
+        if (obstacles_[oi].limb != li && obstacles_[oi].bounds.overlaps(boxes_[li], reach))
+          pr.near.push_back(oi);
+      const float len = length_px(L);
       const int n = std::max(1, static_cast<int>(std::ceil(len / 0.5f)));
-      std::vector<std::uint8_t> hit(static_cast<std::size_t>(n) + 1, 0);  // 1 contact, 2 body
-      for (std::size_t bi = 0; bi < limbs.size(); ++bi) {
-        const limb_truth& B = limbs[bi];
-        if (bi == ai || B.kind == limb_kind::twig || B.centreline.size() < 2 || hidden[bi] != 0)
-          continue;
-        const box& ba = boxes[ai];
-        const box& bb = boxes[bi];
-        if (ba.x1 + gap < bb.x0 || bb.x1 + gap < ba.x0 || ba.y1 + gap < bb.y0 ||
-            bb.y1 + gap < ba.y0)
-          continue;
-        for (int i = 0; i <= n; ++i) {
-          if (hit[static_cast<std::size_t>(i)] == 2) continue;
-          const float s = len * static_cast<float>(i) / static_cast<float>(n);
-          const Eigen::Vector2f p = truth_point_at(A, s);
-          const float reach = 0.5f * truth_diameter_at(A, s) + gap;
-          if (p.x() + reach < bb.x0 || p.x() - reach > bb.x1 || p.y() + reach < bb.y0 ||
-              p.y() - reach > bb.y1)
-            continue;
-          for (std::size_t k = 0; k + 1 < B.centreline.size(); ++k) {
-            const Eigen::Vector2f q0 = B.centreline[k];
-            const Eigen::Vector2f d = B.centreline[k + 1] - q0;
-            const float len2 = d.squaredNorm();
-            const float t = len2 > 0.0f ? std::clamp((p - q0).dot(d) / len2, 0.0f, 1.0f) : 0.0f;
-            const float rb =
-                0.5f * (B.diameter_px[k] + t * (B.diameter_px[k + 1] - B.diameter_px[k]));
-            const float surface = (p - (q0 + t * d)).norm() - rb;
-            std::uint8_t& h = hit[static_cast<std::size_t>(i)];
-            if (surface <= gap) {
-              h = 2;
-              break;
-            }
-            if (surface <= reach) h = 1;
-          }
-        }
+      pr.step = len / static_cast<float>(n);
+      pr.gap.resize(static_cast<std::size_t>(n) + 1);
+      pr.border.resize(pr.gap.size());
+      pr.bend.resize(pr.gap.size());
+      for (int k = 0; k <= n; ++k) {
+        const float s = std::min(pr.step * static_cast<float>(k), len);
+        const auto uk = static_cast<std::size_t>(k);
+        pr.gap[uk] = clearance_gap_px(li, s);
+        pr.border[uk] = border_px(L, s);
+        pr.bend[uk] = bend_deg(L, s);
       }
-      auto runs = [&](std::uint8_t level, std::vector<std::pair<float, float>>& out) {
-        for (int i = 0; i <= n;) {
-          if (hit[static_cast<std::size_t>(i)] < level) {
-            ++i;
-            continue;
-          }
-          int j = i;
-          while (j + 1 <= n && hit[static_cast<std::size_t>(j + 1)] >= level) ++j;
-          // Widen by one sample on each side: the contact may begin between samples.
-          const float lo = len * static_cast<float>(std::max(i - 1, 0)) / static_cast<float>(n);
-          const float hi = len * static_cast<float>(std::min(j + 1, n)) / static_cast<float>(n);
-          out.emplace_back(lo, hi);
-          i = j + 1;
-        }
-      };
-      runs(2, junctions_[ai]);
-      runs(1, contacts_[ai]);
     }
   }
 
@@ -1360,7 +1697,7 @@ class perch_truth {
     const float step = spec_.step_px > 0.05f ? spec_.step_px : 0.05f;
     for (std::size_t li = 0; li < tree_->limbs.size(); ++li) {
       const limb_truth& L = tree_->limbs[li];
-      if (L.kind == limb_kind::twig || L.centreline.size() < 2) continue;
+      if (is_twig_[li] != 0 || supported_[li] == 0 || !well_formed(L)) continue;
       const float len = length_px(L);
       if (len < window_px_) continue;
       const int n = static_cast<int>(std::floor((len - window_px_) / step));
@@ -1385,11 +1722,16 @@ class perch_truth {
 
   const synthetic_tree* tree_;
   claw_spec spec_;
+  float mmpp_ = 1.0f;
   float window_px_ = 0.0f;
   float claw_half_px_ = 0.0f;
-  std::vector<std::uint32_t> prefix_;
-  std::vector<std::vector<std::pair<float, float>>> junctions_;
-  std::vector<std::vector<std::pair<float, float>>> contacts_;
+  float clearance_px_ = 0.0f;
+  float thick_px_ = 0.0f;
+  std::vector<std::uint8_t> is_twig_;    ///< rule 1 per limb
+  std::vector<std::uint8_t> supported_;  ///< rule 2 per limb
+  std::vector<box> boxes_;               ///< per limb, with its radii
+  std::vector<obstacle> obstacles_;
+  std::vector<profile> profiles_;
   std::vector<feasible_stretch> stretches_;
 };
 
