@@ -180,8 +180,8 @@ TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known 
              << best.window.claw_diameter_mm << " mm kmax " << best.window.curvature_max_per_mm
              << "; truth: limb " << at.limb << " arc " << at.arc_px << " off-axis "
              << at.distance_px << " px, window there " << st::to_string(w.verdict) << " (slope "
-             << w.slope_deg << ", claw " << w.claw_diameter_mm << " mm, clearance "
-             << w.clearance_share << "), nearest feasible centre " << near.distance_px
+             << w.slope_deg << ", claw " << w.claw_diameter_mm << " mm, clearance gap "
+             << w.clearance_mm << " mm), nearest feasible centre " << near.distance_px
              << " px (tolerance " << tolerance_px(truth) << ")\n";
   }
   const int wrong_when_none = without_truth - correct_none;  // found a perch where none exists

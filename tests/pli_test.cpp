@@ -516,6 +516,15 @@ TEST_CASE("find_perch: degenerate masks are outcomes with valid sites, never err
   CHECK(perch::find_perch(empty_pixel.view(), ws)->outcome == perch_outcome::no_tree);
 }
 
+/// The claw without the rules about the frame's edge and detached pieces, to check where sites
+/// on the frame's last row are reported (the stock claw never perches there).
+struct claw_at_any_border {
+  static constexpr std::string_view name = "claw-at-any-border";
+  perch::platform_geometry geometry{};
+  perch::all_of<perch::diameter_range, perch::max_slope> constraints{};
+  perch::pli_penalty scorer{};
+};
+
 TEST_CASE("find_perch: downscaled sites on an odd-sized mask's last row stay in the image") {
   // Fuzz finding (tests/fuzz/corpus/fuzz_find_perch/odd-height-downscale-site-outside): at
   // downscale 0.5 the last reduced row of an odd-height mask is centred half a pixel below the
@@ -526,7 +535,9 @@ TEST_CASE("find_perch: downscaled sites on an odd-sized mask's last row stay in 
   for (const int height : {1, 5, 41}) {
     CAPTURE(height);
     const auto bar = mask_where(120, height, [&](int, int y) { return y == height - 1; });
-    auto found = perch::find_perch(bar.view(), perch::tendon_claw{}, perch::fixed_scale{30.0f},
+    CHECK(perch::find_perch(bar.view(), perch::tendon_claw{}, perch::fixed_scale{30.0f}, ws, half)
+              ->outcome == perch_outcome::no_perch);  // on the frame's edge
+    auto found = perch::find_perch(bar.view(), claw_at_any_border{}, perch::fixed_scale{30.0f},
                                    ws, half);
     REQUIRE(found);
     REQUIRE(found->outcome == perch_outcome::found);

@@ -6,6 +6,7 @@
 
 #include "perch/core/assert.hpp"
 #include "perch/core/bounded_vector.hpp"
+#include "perch/core/disc_index.hpp"
 #include "perch/core/eigen_view.hpp"
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"

@@ -11,6 +11,8 @@
 #include "perch/graph/adjacency_list.hpp"
 #include "perch/graph/pixel_kinds.hpp"
 #include "perch/graph/prune.hpp"
+#include "perch/graph/junctions.hpp"
 #include "perch/graph/limbs.hpp"
+#include "perch/graph/limb_surroundings.hpp"
 #include "perch/graph/skeleton_graph.hpp"
 #include "perch/graph/trunk_distances.hpp"

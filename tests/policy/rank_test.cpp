@@ -46,9 +46,9 @@ TEST_CASE("rank: viability, eq. 3 ranking, distinct sites and why the others los
       window(1, 20, 55, 50.0f, 200.0f), // too steep and too thick
       window(2, 0, 110, 2.0f, 105.0f),  // viable, P = 0.8·2/35 + 0.2·75/80
   };
-  using constraints = perch::all_of<perch::diameter_range, perch::max_slope, perch::clearance>;
+  using constraints = perch::all_of<perch::diameter_range, perch::max_slope, perch::clutter>;
   const constraints c{perch::diameter_range{30.0f, 110.0f, 0.0f}, perch::max_slope{35.0f},
-                      perch::clearance{.margin_mm = 20.0f, .max_share = 0.1f}};
+                      perch::clutter{.margin_mm = 20.0f, .max_share = 0.1f}};
   auto make_context = [&tree](const perch::window_measures& m) {
     const perch::point2f centre = perch::to_point(m.centre);
     return perch::window_context(tree, m, centre - perch::point2f(10, 0),
@@ -70,7 +70,7 @@ TEST_CASE("rank: viability, eq. 3 ranking, distinct sites and why the others los
   CHECK(ranked->rejections[0].constraint == "diameter");
   CHECK(ranked->rejections[0].windows == 1);  // the thick, steep one fails diameter first
   CHECK(ranked->rejections[1].windows == 2);
-  CHECK(ranked->rejections[2].constraint == "clearance");
+  CHECK(ranked->rejections[2].constraint == "clutter");
   CHECK(ranked->rejections[2].windows == 1);
   REQUIRE(ranked->near_misses[1].present);
   CHECK(ranked->near_misses[1].miss == doctest::Approx(1.0f));

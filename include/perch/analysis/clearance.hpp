@@ -1,18 +1,24 @@
 /// \file
-/// Clearance around a window: how much of the tree other than the branch itself lies in a band
-/// along it, above it, or in a circle around it (the paper's failure case of a branch buried in
-/// twigs, and the free space the tether, metamorphic and ornithopter platforms need).
-/// Regions are convex; each query walks the region's rows and counts each row's tree pixels 16
-/// at a time, so it costs O(region area / 16) and needs nothing built beforehand.
+/// Clearance around a window, two ways:
+///  - from every other limb's surface (`limb_clearance`): how far the window's centreline is
+///    from the nearest other limb thick enough to matter, less its own radius; what a claw that
+///    reaches around the limb needs free (issue 24's safe perch);
+///  - as a share of tree pixels in a band along the window, above it, or in a circle around it
+///    (the paper's failure case of a branch buried in twigs, and the free space the tether,
+///    metamorphic and ornithopter platforms need). Regions are convex; each query walks the
+///    region's rows and counts each row's tree pixels 16 at a time, so it costs
+///    O(region area / 16) and needs nothing built beforehand.
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 
 #include "perch/analysis/measures.hpp"
+#include "perch/core/disc_index.hpp"
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
 #include "perch/core/result.hpp"
@@ -100,13 +106,67 @@ struct region_share {
   }
 };
 
+/// One limb as `limb_clearance` reads it: its centreline, radii (distance map, px), the owners
+/// its clearance leaves out (itself and the limbs continuing it), and a cache of one gap per
+/// point (`limb_clearance::cache_floats`).
+struct limb_neighbourhood {
+  std::span<const pixel> points{};
+  std::span<const float> radius_px{};
+  owner_set own{};
+  std::span<float> gap_px{};   ///< per point: the gap found, valid up to `reach_px`
+  std::span<float> reach_px{};  ///< per point: how far the search looked (≤ 0: not yet)
+};
+
+/// The gap (px) between each limb point's outline and the surface of the nearest other limb in
+/// `discs` (`find_limb_obstacles`): |p − c| − r(c) − r(p) at its smallest, with r(p) the point's
+/// radius less ½ px like the discs'. Computed on demand and cached per point, so the windows
+/// that overlap along a limb share their searches.
+class limb_clearance {
+ public:
+  limb_clearance() noexcept = default;
+  limb_clearance(const disc_index& discs, std::span<const limb_neighbourhood> limbs) noexcept
+      : discs_(&discs), limbs_(limbs) {}
+
+  /// The smallest gap over points [first, last] of `limb`, or `cap_px` when every gap is at
+  /// least that. An unknown limb (or no discs) has nothing around it: `cap_px`.
+  [[nodiscard]] float smallest_gap_px(std::int32_t limb, std::uint32_t first, std::uint32_t last,
+                                      float cap_px) const noexcept {
+    if (discs_ == nullptr || limb < 0 || static_cast<std::size_t>(limb) >= limbs_.size())
+      return cap_px;
+    const limb_neighbourhood& l = limbs_[static_cast<std::size_t>(limb)];
+    float smallest = cap_px;
+    for (std::uint32_t i = first; i <= last && i < l.points.size(); ++i)
+      smallest = std::min(smallest, gap_at(l, i, cap_px));
+    return smallest;
+  }
+
+ private:
+  [[nodiscard]] float gap_at(const limb_neighbourhood& l, std::size_t i, float cap_px) const noexcept {
+    // Cached: the search looked far enough, or found a surface nearer than it looked.
+    const bool searched = l.reach_px[i] > 0;
+    if (searched && (l.reach_px[i] >= cap_px || l.gap_px[i] < l.reach_px[i]))
+      return std::min(l.gap_px[i], cap_px);
+    const float own = std::max(l.radius_px[i] - 0.5f, 0.0f);
+    const float reach = cap_px + own;
+    const float surface = discs_->surface_distance(to_point(l.points[i]), l.own, reach);
+    l.gap_px[i] = surface >= reach ? cap_px : surface - own;  // nothing within reach: the cap
+    l.reach_px[i] = cap_px;
+    return std::min(l.gap_px[i], cap_px);
+  }
+
+  const disc_index* discs_ = nullptr;
+  std::span<const limb_neighbourhood> limbs_{};
+};
+
 /// What a clearance constraint may ask about one window. Built by the ranking stage for windows
 /// that passed every geometric constraint; each query is computed on demand.
 class window_context {
  public:
   window_context(const tree_pixel_counter& tree, const window_measures& m, point2f first_px,
-                 point2f last_px, float own_radius_px, point2f up) noexcept
-      : tree_(&tree), m_(&m), a_(first_px), b_(last_px), own_radius_px_(own_radius_px), up_(up) {
+                 point2f last_px, float own_radius_px, point2f up,
+                 const limb_clearance* limbs = nullptr) noexcept
+      : tree_(&tree), limbs_(limbs), m_(&m), a_(first_px), b_(last_px),
+        own_radius_px_(own_radius_px), up_(up) {
     point2f d = b_ - a_;
     const float n = d.norm();
     along_ = n > 0 ? point2f(d / n) : point2f(up_.y(), -up_.x());
@@ -115,6 +175,16 @@ class window_context {
   }
 
   [[nodiscard]] const window_measures& measures() const noexcept { return *m_; }
+
+  /// The smallest gap (mm) between the window's limb and the surface of any other limb at any
+  /// point of the window (`limb_clearance`), or `cap_mm` when it is at least that (the search
+  /// looks no further). `cap_mm` without the other limbs' surroundings (no `limb_clearance`).
+  [[nodiscard]] float limb_gap_mm(float cap_mm) const noexcept {
+    if (limbs_ == nullptr) return cap_mm;
+    const float cap_px = px(cap_mm);
+    const float gap_px = limbs_->smallest_gap_px(m_->limb, m_->first, m_->last, cap_px);
+    return gap_px >= cap_px ? cap_mm : gap_px * m_->mm_per_px;  // the cap exactly, not rounded
+  }
 
   /// Other tree in a band along the window: `margin_mm` beyond the branch's surface on each
   /// side, over the window's chord.
@@ -199,6 +269,7 @@ class window_context {
   }
 
   const tree_pixel_counter* tree_;
+  const limb_clearance* limbs_;
   const window_measures* m_;
   point2f a_, b_, centre_, along_, across_;
   float own_radius_px_;

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <numbers>
 #include <span>
 
 #include "perch/analysis/attitude.hpp"
@@ -43,6 +45,20 @@ struct window_measures {
   float diameter_low_mm = 0;
   float claw_diameter_mm = 0;   ///< mean diameter over the central claw region
   float reversal_mm = 0;        ///< largest step back along the chord (0 for a monotonic window)
+  /// Largest slope (°, [0, 90]) of the limb's local tangent (`tangent_profile`) at any point of
+  /// the window: a limb that is level on average but steep at one end is not a level perch.
+  float slope_max_deg = 0;
+  /// Largest change of heading (°) between the limb's tangents half a drone width before and
+  /// after any point of the window, clipped at the analysed stretch's ends (`bend_profile`): a
+  /// kink or a tight curve under or beside the drone's body.
+  float bend_deg = 0;
+  /// Smallest gap (px, analysed frame) between the limb's outline under the window and the
+  /// frame's edge: a limb cut by the frame is not known beyond it, and a mask's last pixels
+  /// are the least reliable.
+  float border_px = std::numeric_limits<float>::max();
+  /// The window's piece of mask holds something up (`grounded_components`): it reaches the
+  /// bottom of the frame or is the main tree. A detached piece is never a perch.
+  bool grounded = true;
   float origin_distance_mm = 0;    ///< arc length from the branch's origin (toward the trunk)
   float origin_horizontal_mm = 0;  ///< horizontal part of origin → centre (bending lever arm)
   point3f position_m = point3f::Zero();  ///< camera-frame position when depth is known
@@ -178,6 +194,80 @@ inline void curvature_profile(std::span<const pixel> points, std::span<float> cu
     curvature_px[i + 3] = a3 / count;
   }
   for (; i < n; ++i) curvature_px[i] = clamped_mean(i);
+}
+
+/// Unit tangent of a centreline at every point, oriented from the first point to the last: the
+/// principal axis (orthogonal least squares, closed form as in `fitted_slope_deg`) of the points
+/// within arc length h of it, h = max(its radius, `min_half_arc_px`), the stretch clipped at
+/// the polyline's ends. Over about a radius a limb's axis is straight, while a skeleton's
+/// pixel steps turn by 45° at a time and a bulge of the outline (a fork's crotch) shifts only a
+/// few of its points: the fit reads the limb, not the pixels.
+/// `arc_px` from `arc_lengths`; all spans have `points.size()` entries. Complexity O(n · h).
+inline void tangent_profile(std::span<const pixel> points, std::span<const float> arc_px,
+                            std::span<const float> radius_px, std::span<float> tangent_x,
+                            std::span<float> tangent_y, float min_half_arc_px = 4.0f) noexcept {
+  const std::size_t n = points.size();
+  PERCH_ASSERT(arc_px.size() == n && radius_px.size() == n && tangent_x.size() == n &&
+                   tangent_y.size() == n,
+               "tangent_profile: sizes");
+  for (std::size_t i = 0; i < n; ++i) {
+    const float h = std::max(radius_px[i], min_half_arc_px);
+    // The points within h of arc (the radius varies along the limb, so each is searched).
+    const auto lo = static_cast<std::size_t>(
+        std::lower_bound(arc_px.begin(), arc_px.end(), arc_px[i] - h) - arc_px.begin());
+    const auto hi = static_cast<std::size_t>(
+        std::upper_bound(arc_px.begin(), arc_px.end(), arc_px[i] + h) - arc_px.begin());
+    const std::size_t a = std::min(lo, i > 0 ? i - 1 : i);
+    const std::size_t b = std::max(hi > 0 ? hi - 1 : 0, i + 1 < n ? i + 1 : i);
+    const pixel origin = points[i];
+    double mx = 0, my = 0;
+    for (std::size_t k = a; k <= b; ++k) {
+      mx += points[k].x - origin.x;
+      my += points[k].y - origin.y;
+    }
+    const auto count = static_cast<double>(b - a + 1);
+    mx /= count;
+    my /= count;
+    double sxx = 0, sxy = 0, syy = 0;
+    for (std::size_t k = a; k <= b; ++k) {
+      const double dx = points[k].x - origin.x - mx;
+      const double dy = points[k].y - origin.y - my;
+      sxx += dx * dx;
+      sxy += dx * dy;
+      syy += dy * dy;
+    }
+    const double angle = 0.5 * std::atan2(2.0 * sxy, sxx - syy);
+    auto tx = static_cast<float>(std::cos(angle));
+    auto ty = static_cast<float>(std::sin(angle));
+    const auto cx = static_cast<float>(points[b].x - points[a].x);
+    const auto cy = static_cast<float>(points[b].y - points[a].y);
+    if (tx * cx + ty * cy < 0) {
+      tx = -tx;
+      ty = -ty;
+    }
+    tangent_x[i] = tx;
+    tangent_y[i] = ty;
+  }
+}
+
+/// At every point of a centreline, the angle (°, [0, 180]) between its tangents (from
+/// `tangent_profile`) at arc length `reach_px` before and after it, each clipped to the
+/// polyline's ends: how much the limb turns over a drone's width around that point.
+/// Complexity O(n).
+inline void bend_profile(std::span<const float> arc_px, std::span<const float> tangent_x,
+                         std::span<const float> tangent_y, float reach_px,
+                         std::span<float> bend_deg) noexcept {
+  const std::size_t n = arc_px.size();
+  PERCH_ASSERT(tangent_x.size() == n && tangent_y.size() == n && bend_deg.size() == n,
+               "bend_profile: sizes");
+  std::size_t back = 0, ahead = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    while (back + 1 < n && arc_px[back + 1] <= arc_px[i] - reach_px) ++back;
+    while (ahead + 1 < n && arc_px[ahead] < arc_px[i] + reach_px) ++ahead;
+    const float dot = std::clamp(
+        tangent_x[back] * tangent_x[ahead] + tangent_y[back] * tangent_y[ahead], -1.0f, 1.0f);
+    bend_deg[i] = std::acos(dot) * 180.0f / std::numbers::pi_v<float>;
+  }
 }
 
 /// Slope (°) of the orthogonal least-squares line through `points` against horizon `h`

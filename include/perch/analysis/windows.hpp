@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <span>
 
 #include "perch/analysis/attitude.hpp"
@@ -37,6 +38,12 @@ struct branch_geometry {
   /// Optional diameter (px) at each point (`cross_section_diameters`); empty: 2·d − 1 from
   /// `radius_px`.
   std::span<const float> diameter_px{};
+  /// The frame `points + offset` lie in (the analysed image), for `window_measures::border_px`;
+  /// 0 × 0: not measured.
+  int frame_width = 0;
+  int frame_height = 0;
+  /// Whether the branch's piece of mask holds something up (`window_measures::grounded`).
+  bool grounded = true;
 };
 
 /// Window geometry and measuring options. Defaults: the tendon-claw drone of Li et al. 2025.
@@ -62,7 +69,7 @@ struct window_options {
 };
 
 /// Floats of scratch `measure_windows` needs for a branch of `n` points.
-[[nodiscard]] constexpr std::size_t window_scratch_floats(std::size_t n) noexcept { return 5 * n; }
+[[nodiscard]] constexpr std::size_t window_scratch_floats(std::size_t n) noexcept { return 8 * n; }
 
 /// Measures every window of `branch` and appends them to `out`.
 ///
@@ -86,8 +93,20 @@ template <ScalePolicy Scale>
   std::span<float> arc = scratch.first(n);
   std::span<float> kappa = scratch.subspan(n, n);
   std::span<float> work = scratch.subspan(2 * n, 3 * n);
+  std::span<float> tangent_x = scratch.subspan(5 * n, n);
+  std::span<float> tangent_y = scratch.subspan(6 * n, n);
+  std::span<float> bend = scratch.subspan(7 * n, n);
   arc_lengths(branch.points, arc);
   curvature_profile(branch.points, kappa, work, options.curvature_at(global_mm_per_px));
+  tangent_profile(branch.points, arc, branch.radius_px, tangent_x, tangent_y);
+  bend_profile(arc, tangent_x, tangent_y, 0.5f * options.drone_width_mm / global_mm_per_px, bend);
+  // The gap between the outline at point i and the frame's edge (px).
+  const bool framed = branch.frame_width > 0 && branch.frame_height > 0;
+  auto border_gap = [&](std::size_t i) {
+    const pixel p{branch.points[i].x + branch.offset.x, branch.points[i].y + branch.offset.y};
+    const int edge = std::min({p.x, p.y, branch.frame_width - 1 - p.x, branch.frame_height - 1 - p.y});
+    return static_cast<float>(edge) - branch.radius_px[i];
+  };
   const float total_px = arc[n - 1];
   const point2f h = options.camera.horizon();
 
@@ -152,11 +171,16 @@ template <ScalePolicy Scale>
     w.slope_fit_deg = fitted_slope_deg(pts, h);
     float kmax = 0;
     float ksum = 0;
+    float slope_max = 0, bend_max = 0;
+    float border = std::numeric_limits<float>::max();
     float dmin = 1e30f, dmax = 0, dsum = 0, claw_sum = 0;
     std::size_t claw_count = 0;
     const float claw_half_px = 0.5f * options.claw_width_mm / mm_per_px;
     for (std::size_t i = a; i <= b; ++i) {
       kmax = std::max(kmax, std::abs(kappa[i]));
+      slope_max = std::max(slope_max, slope_to_horizon_deg(point2f(tangent_x[i], tangent_y[i]), h));
+      bend_max = std::max(bend_max, bend[i]);
+      if (framed) border = std::min(border, border_gap(i));
       ksum += std::abs(kappa[i]);
       const float d = diameter_at(i);
       dmin = std::min(dmin, d);
@@ -184,6 +208,10 @@ template <ScalePolicy Scale>
                      work.begin() + static_cast<std::ptrdiff_t>(low_count));
     w.diameter_low_mm = work[static_cast<std::size_t>(low_rank)] * mm_per_px;
     w.reversal_mm = reversal_px(pts) * mm_per_px;
+    w.slope_max_deg = slope_max;
+    w.bend_deg = bend_max;
+    w.border_px = border;
+    w.grounded = branch.grounded;
     const float along = from_front ? arc[m] : total_px - arc[m];
     w.origin_distance_mm = along * mm_per_px;
     w.origin_horizontal_mm = std::abs((to_point(branch.points[m]) - origin).dot(h)) * mm_per_px;

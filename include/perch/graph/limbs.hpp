@@ -195,6 +195,13 @@ inline void limb_continuations(const skeleton_graph& graph, std::span<std::int32
   });
 }
 
+/// The part of a branch's or limb's polyline outside the bodies of the junctions at its ends
+/// (points [first, first + count)).
+struct branch_stretch {
+  std::size_t first = 0;
+  std::size_t count = 0;
+};
+
 /// A limb: a chain of edges joined by `limb_continuations`, as one polyline: the edges'
 /// points in walking order, with the node pixel of each junction walked through between two
 /// edges (its radius the node's).

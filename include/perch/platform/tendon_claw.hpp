@@ -10,15 +10,28 @@
 namespace perch {
 
 /// Tendon-driven claw: grasps 30–110 mm diameters with a 70 mm claw on a 180 mm wide, 1.5 kg
-/// drone, on branches at most 35° from horizontal (Li et al. 2025, as used by the PLI paper),
-/// gently curved, monotonic, strong enough (paper eq. 4), and not buried in twigs.
+/// drone (Li et al. 2025, as used by the PLI paper). A window (one drone width of limb) is a
+/// safe perch when, at every point of it:
+///  - its piece of mask is grounded (`supported`) and its outline is 3 px inside the frame
+///    (`image_border`);
+///  - the claw-region diameter is within 30–110 mm (`diameter_range`), and still is give or
+///    take a pixel (`resolved_diameter`);
+///  - the limb's tangent is at most 35° from horizontal (`max_slope`), it turns by at most 20°
+///    over a drone width around any point (`max_bend`), gently curved and monotonic;
+///  - it holds the drone (paper eq. 4, `bending_stress`);
+///  - every other limb thicker than a 20 mm twig is at least 70 mm (the claw's reach as it
+///    closes) from its surface (`clearance`).
 /// Ranked by paper eq. 3 with λ_slope 0.8, λ_diameter 0.2.
 struct tendon_claw {
   static constexpr std::string_view name = "tendon-claw";
   platform_geometry geometry{};
-  all_of<diameter_range, max_slope, max_curvature, monotonic, bending_stress, clearance>
-      constraints{diameter_range{30.0f, 110.0f}, max_slope{35.0f}, max_curvature{},
-                  monotonic{}, bending_stress{1.5f}, clearance{}};
+  all_of<supported, image_border, diameter_range, resolved_diameter, max_slope, max_bend,
+         max_curvature, monotonic, bending_stress, clearance>
+      constraints{supported{},       image_border{3.0f},
+                  diameter_range{30.0f, 110.0f, 0.0f}, resolved_diameter{30.0f, 110.0f, 1.0f},
+                  max_slope{35.0f},  max_bend{20.0f},
+                  max_curvature{},   monotonic{},
+                  bending_stress{1.5f}, clearance{70.0f}};
   pli_penalty scorer{};
 };
 

@@ -61,13 +61,41 @@ struct diameter_range {
   }
 };
 
-/// Slope to the true horizontal at most `max_deg` (the claw: 35°).
+/// The claw's diameter is known well enough to say it fits: the claw-region diameter, give or
+/// take `uncertainty_px` image pixels at the window's scale, still within [min_mm, max_mm].
+/// A mask's outline is good to about a pixel, so a 30–40 mm limb drawn 2–3 px wide may be
+/// 20 mm or 50 mm: not known to be graspable, and reported as `resolution`, not as a perch.
+/// A diameter outside the range itself passes here: that is `diameter_range`'s to report.
+struct resolved_diameter {
+  static constexpr std::string_view name = "resolution";
+  static constexpr std::string_view unit = "px";
+  float min_mm = 30.0f;
+  float max_mm = 110.0f;
+  float uncertainty_px = 1.0f;
+  [[nodiscard]] float operator()(const window_measures& m) const noexcept {
+    if (!(m.mm_per_px > 0)) return 1.0f;
+    if (m.claw_diameter_mm < min_mm || m.claw_diameter_mm > max_mm) return 0.0f;
+    const float d_px = m.claw_diameter_mm / m.mm_per_px;
+    return std::max({min_mm / m.mm_per_px + uncertainty_px - d_px,
+                     d_px + uncertainty_px - max_mm / m.mm_per_px, 0.0f});
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!detail::finite_non_negative(min_mm) || !detail::finite_non_negative(max_mm) ||
+        !detail::finite_non_negative(uncertainty_px))
+      return fail(errc::invalid_parameter, "resolved_diameter");
+    if (min_mm > max_mm) return fail(errc::range_inverted, "resolved_diameter");
+    return {};
+  }
+};
+
+/// Slope to the true horizontal at most `max_deg` (the claw: 35°), both of the window's chord
+/// and of the limb's local tangent at every point of it (`window_measures::slope_max_deg`).
 struct max_slope {
   static constexpr std::string_view name = "max_slope";
   static constexpr std::string_view unit = "deg";
   float max_deg = 35.0f;
   [[nodiscard]] float operator()(const window_measures& m) const noexcept {
-    return std::max(m.slope_deg - max_deg, 0.0f);
+    return std::max(std::max(m.slope_deg, m.slope_max_deg) - max_deg, 0.0f);
   }
   [[nodiscard]] status validate() const noexcept {
     if (!(detail::finite_non_negative(max_deg) && max_deg <= 90.0f))
@@ -107,6 +135,52 @@ struct max_curvature {
   }
 };
 
+/// The limb turns by at most `max_deg` over a drone's width around any point of the window
+/// (`window_measures::bend_deg`): no kink or tight curve under or beside the drone's body.
+/// 20° over the claw's 180 mm is a bend radius of about 0.5 m.
+struct max_bend {
+  static constexpr std::string_view name = "bend";
+  static constexpr std::string_view unit = "deg";
+  float max_deg = 20.0f;
+  [[nodiscard]] float operator()(const window_measures& m) const noexcept {
+    return std::max(m.bend_deg - max_deg, 0.0f);
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!(detail::finite_non_negative(max_deg) && max_deg <= 180.0f))
+      return fail(errc::invalid_parameter, "max_bend.max_deg");
+    return {};
+  }
+};
+
+/// The limb's outline under the window stays at least `margin_px` pixels inside the frame
+/// (`window_measures::border_px`): a limb cut by the frame is not known beyond it, and the
+/// last pixels of a segmenter's mask are its least reliable.
+struct image_border {
+  static constexpr std::string_view name = "border";
+  static constexpr std::string_view unit = "px";
+  float margin_px = 3.0f;
+  [[nodiscard]] float operator()(const window_measures& m) const noexcept {
+    return std::max(margin_px - m.border_px, 0.0f);
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!detail::finite_non_negative(margin_px))
+      return fail(errc::invalid_parameter, "image_border.margin_px");
+    return {};
+  }
+};
+
+/// The window's piece of mask holds something up (`window_measures::grounded`): connected to a
+/// trunk that reaches the bottom of the frame, or the main tree. A detached piece of mask (a
+/// segmenter's gap, a blob of foliage) is not a perch, whatever its shape. Misses by 1.
+struct supported {
+  static constexpr std::string_view name = "supported";
+  static constexpr std::string_view unit = "";
+  [[nodiscard]] float operator()(const window_measures& m) const noexcept {
+    return m.grounded ? 0.0f : 1.0f;
+  }
+  [[nodiscard]] status validate() const noexcept { return {}; }
+};
+
 /// The window never turns back along its chord by more than `tolerance_mm` (paper
 /// §"Exemplar results", point 1: branch reversal).
 struct monotonic {
@@ -123,10 +197,29 @@ struct monotonic {
   }
 };
 
-/// At most `max_share` of the band `margin_mm` around the branch is other tree (twigs, crossing
-/// branches): the paper's failure case of a perch buried in small branches.
+/// Every point of the window is at least `margin_mm` from the surface of every other limb
+/// thicker than a twig, beyond its own surface (`window_context::limb_gap_mm`): the claw reaches
+/// that far around the limb as it closes, so a side limb, the parent at a fork, a limb crossing
+/// in front or behind, or a second tree there would be in its way. Twigs (`obstacle_options`)
+/// are compliant and do not count.
 struct clearance {
   static constexpr std::string_view name = "clearance";
+  static constexpr std::string_view unit = "mm";
+  float margin_mm = 70.0f;
+  [[nodiscard]] float operator()(const window_measures&,
+                                 const window_context& context) const noexcept {
+    return std::max(margin_mm - context.limb_gap_mm(margin_mm), 0.0f);
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!detail::finite_non_negative(margin_mm)) return fail(errc::invalid_parameter, "clearance");
+    return {};
+  }
+};
+
+/// At most `max_share` of the band `margin_mm` around the branch is other tree (twigs, crossing
+/// branches, leaves): the paper's failure case of a perch buried in small branches.
+struct clutter {
+  static constexpr std::string_view name = "clutter";
   static constexpr std::string_view unit = "share";
   float margin_mm = 60.0f;
   float max_share = 0.15f;
@@ -136,7 +229,7 @@ struct clearance {
   }
   [[nodiscard]] status validate() const noexcept {
     if (!(detail::finite_non_negative(margin_mm) && detail::finite_non_negative(max_share)))
-      return fail(errc::invalid_parameter, "clearance");
+      return fail(errc::invalid_parameter, "clutter");
     return {};
   }
 };

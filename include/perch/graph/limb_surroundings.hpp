@@ -1,0 +1,207 @@
+/// \file
+/// What surrounds each limb, as the feasibility rules need it (issue 24):
+///  - `limb_obstacles`: the discs of every limb's skeleton (the union of a medial axis's discs is
+///    the shape, Blum 1967), with a limb's base inside its parent modelled by the limb's own
+///    radius. A window's clearance is its distance to the discs of every other limb
+///    (`disc_index::surface_distance`). Every limb that meets this one at a junction is another
+///    limb, even one that carries on straight through a fork or past a side limb: the skeleton
+///    cannot tell the same wood from a fork's child, and the safe reading is the cautious one.
+///  - `grounded_components`: which connected pieces of the mask hold something up: a piece that
+///    reaches the bottom of the frame, or the main tree. A detached piece (a segmenter's gap, a
+///    blob of foliage) is never a perch, whatever its shape.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <span>
+
+#include "perch/core/disc_index.hpp"
+#include "perch/core/geometry.hpp"
+#include "perch/core/result.hpp"
+#include "perch/core/workspace.hpp"
+#include "perch/graph/junctions.hpp"
+#include "perch/graph/limbs.hpp"
+#include "perch/graph/skeleton_graph.hpp"
+
+namespace perch {
+
+/// Which limbs count as obstacles (lengths in mm at the frame's scale).
+struct obstacle_options {
+  /// Limbs thinner than this are compliant twigs: a claw closes through them and a drone's
+  /// rotors brush them aside. Only discs at least this thick are obstacles.
+  float twig_max_mm = 20.0f;
+
+  [[nodiscard]] status validate() const noexcept {
+    if (!(twig_max_mm >= 0 && twig_max_mm < 1e6f))
+      return fail(errc::invalid_parameter, "obstacle_options");
+    return {};
+  }
+};
+
+/// Every limb's obstacle discs, and per limb the owners a clearance query leaves out (itself).
+struct limb_obstacles {
+  disc_index discs{};
+  std::span<const owner_set> own{};  ///< per limb: itself and the limbs continuing it
+};
+
+/// Bytes of workspace `find_limb_obstacles` takes.
+[[nodiscard]] inline std::size_t limb_obstacles_workspace_bytes(std::size_t limbs,
+                                                                std::size_t limb_points,
+                                                                int width, int height) noexcept {
+  return workspace::footprint<owner_set>(limbs) +
+         workspace::footprint<owned_disc>(limb_points) +
+         disc_index::workspace_bytes(limb_points, width, height);
+}
+
+/// The owner of a disc that belongs to no limb: an obstacle to every limb.
+inline constexpr std::int32_t unowned_disc = -2;
+
+namespace detail {
+
+/// Radius (px) of limb `limb`'s point `i`, as an obstacle: beside a junction node at either of
+/// the limb's ends, inside the node's disc, the distance map measures the body the limb merges
+/// into, not the limb; there the limb is taken to carry on with the radius it has where it
+/// leaves the node's disc (its base modelled as reaching the parent's axis, as a limb grows).
+struct junction_caps {
+  float front_reach2 = -1, front_radius = 0;  ///< squared reach from the first point's node
+  float back_reach2 = -1, back_radius = 0;
+  point2f front_node{0, 0}, back_node{0, 0};
+};
+
+[[nodiscard]] inline junction_caps caps_of(const skeleton_graph& graph, const skeleton_limb& limb,
+                                           bool closed) noexcept {
+  junction_caps caps;
+  const std::size_t n = limb.points.size();
+  if (closed || n == 0) return caps;
+  auto cap_at = [&](std::size_t end, bool front, float& reach2, float& radius, point2f& at) {
+    const skeleton_node node = graph.node(node_at_end(graph, end));
+    if (node.kind != node_kind::junction) return;
+    at = to_point(node.position);
+    const float reach = node.radius_px + 1.0f;
+    reach2 = reach * reach;
+    radius = front ? limb.radius_px[n - 1] : limb.radius_px[0];  // the farthest, at worst
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = front ? k : n - 1 - k;
+      if ((to_point(limb.points[i]) - at).squaredNorm() > reach2) {
+        radius = limb.radius_px[i];
+        return;
+      }
+    }
+  };
+  cap_at(limb.first_end, true, caps.front_reach2, caps.front_radius, caps.front_node);
+  cap_at(limb.last_end, false, caps.back_reach2, caps.back_radius, caps.back_node);
+  return caps;
+}
+
+/// The disc that stands for the limbs leaving limb `limb` at the junction at its end `end`
+/// (`front`: its first point's): a disc as wide as the widest of them, at the base farthest
+/// from the node among theirs (`limb_at_junction`: where a limb's axis, extended back, meets
+/// this limb's centreline). The skeleton splits a narrow fork only where the limbs' surfaces
+/// part, beyond the true fork, so a child's own discs begin too far along; a child that carries
+/// on straight is still another limb, from the fork on. Limbs wider than this one there are the
+/// parent it leaves, whose own discs stand for it. Radius 0: no such limb.
+[[nodiscard]] inline owned_disc junction_disc(const skeleton_graph& graph,
+                                              const skeleton_limb& limb, std::size_t end,
+                                              bool front, float own_radius) noexcept {
+  owned_disc out{0, 0, 0, unowned_disc};
+  const node_id id = node_at_end(graph, end);
+  const skeleton_node node = graph.node(id);
+  if (node.kind != node_kind::junction) return out;
+  const std::size_t n = limb.points.size();
+  auto own_at = [&](std::size_t k) { return limb.points[front ? k : n - 1 - k]; };
+  const point2f centre = to_point(node.position);
+  const float reach = 2.5f * node.radius_px + 4.0f;
+  float farthest = -1;
+  for (const incidence in : graph.topology().incidences(id)) {
+    if (in.edge == edge_of_end(end)) continue;
+    const junction_limb other =
+        limb_at_junction(graph.branch(in.edge), in.direction, node, own_at, n, reach);
+    if (!other.valid || other.radius_px > own_radius) continue;
+    out.radius = std::max(out.radius, other.radius_px);
+    const float from_node = (other.base - centre).norm();
+    if (from_node > farthest) {
+      farthest = from_node;
+      out.x = other.base.x();
+      out.y = other.base.y();
+    }
+  }
+  return out;
+}
+
+}  // namespace detail
+
+/// The obstacle discs of every limb and the owner sets of `limbs` (from `trace_limbs` with the
+/// continuations `next`; `stretches` from `limb_stretch`), and at each end of a limb at a
+/// junction a disc for the limbs leaving it there (`detail::junction_disc`), for a frame of `width` × `height` (the limbs' coordinates) at
+/// `mm_per_px`. A disc's radius is the distance-map radius less ½ px (the map measures to the
+/// nearest background pixel centre, half a pixel beyond the outline).
+/// Errors: `workspace_too_small` for a borrowed workspace. Complexity: O(limb points + cells).
+[[nodiscard]] inline result<limb_obstacles> find_limb_obstacles(
+    const skeleton_graph& graph, std::span<const skeleton_limb> limbs,
+    std::span<const std::int32_t> next, std::span<const branch_stretch> stretches, int width,
+    int height, float mm_per_px, workspace& ws, const obstacle_options& options = {}) noexcept {
+  PERCH_ASSERT(stretches.size() == limbs.size(), "find_limb_obstacles: stretches");
+  std::size_t total = 2 * limbs.size();
+  for (const skeleton_limb& l : limbs) total += l.points.size();
+  auto own = ws.allocate<owner_set>(limbs.size());
+  auto discs = ws.allocate<owned_disc>(total);
+  if (!own) return unexpected{own.error()};
+  if (!discs) return unexpected{discs.error()};
+  const float min_radius_px = 0.5f * options.twig_max_mm / mm_per_px + 0.5f;
+  std::size_t count = 0;
+  for (std::size_t l = 0; l < limbs.size(); ++l) {
+    const skeleton_limb& limb = limbs[l];
+    const bool closed = next[limb.first_end] >= 0;
+    (*own)[l].ids[0] = static_cast<std::int32_t>(l);
+    const detail::junction_caps caps = detail::caps_of(graph, limb, closed);
+    for (std::size_t i = 0; i < limb.points.size(); ++i) {
+      const point2f p = to_point(limb.points[i]);
+      float r = limb.radius_px[i];
+      if ((p - caps.front_node).squaredNorm() <= caps.front_reach2) r = std::min(r, caps.front_radius);
+      if ((p - caps.back_node).squaredNorm() <= caps.back_reach2) r = std::min(r, caps.back_radius);
+      if (r < min_radius_px) continue;  // a twig's, or a thin limb's: compliant
+      (*discs)[count++] = {p.x(), p.y(), r - 0.5f, static_cast<std::int32_t>(l)};
+    }
+    // The limbs leaving it at the junctions at its ends, from the fork on.
+    const branch_stretch s = stretches[l];
+    if (closed || s.count == 0) continue;
+    for (const bool front : {true, false}) {
+      const float own_radius = limb.radius_px[front ? s.first : s.first + s.count - 1];
+      owned_disc d = detail::junction_disc(graph, limb, front ? limb.first_end : limb.last_end,
+                                           front, own_radius);
+      if (d.radius < min_radius_px) continue;
+      d.radius -= 0.5f;
+      (*discs)[count++] = d;
+    }
+  }
+  auto index = disc_index::build(std::span<const owned_disc>(*discs).first(count), width, height, ws);
+  if (!index) return unexpected{index.error()};
+  return limb_obstacles{*index, *own};
+}
+
+/// Marks in `grounded` (one flag per graph component) the components that hold something up:
+/// those with a limb whose outline reaches the bottom row of the frame (within `reach_px`),
+/// and the main tree, the component with the most limb area (Σ r² over its limbs' points).
+/// `bottom_row` is the frame's last row in the limbs' coordinates.
+inline void grounded_components(std::span<const skeleton_limb> limbs, float bottom_row,
+                                std::span<std::uint8_t> grounded, std::span<float> area,
+                                float reach_px = 2.0f) noexcept {
+  std::fill(grounded.begin(), grounded.end(), std::uint8_t{0});
+  std::fill(area.begin(), area.end(), 0.0f);
+  for (const skeleton_limb& limb : limbs) {
+    if (limb.component < 0 || static_cast<std::size_t>(limb.component) >= grounded.size()) continue;
+    const auto c = static_cast<std::size_t>(limb.component);
+    for (std::size_t i = 0; i < limb.points.size(); ++i) {
+      const float r = limb.radius_px[i];
+      area[c] += r * r;
+      if (static_cast<float>(limb.points[i].y) + r + reach_px >= bottom_row) grounded[c] = 1;
+    }
+  }
+  if (area.empty()) return;
+  const auto main = static_cast<std::size_t>(std::max_element(area.begin(), area.end()) - area.begin());
+  grounded[main] = 1;
+}
+
+}  // namespace perch
