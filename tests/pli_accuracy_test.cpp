@@ -1,260 +1,127 @@
-// End-to-end accuracy of find_perch on synthetic trees with ground truth (issue 5, item 7): on a
-// population of generated trees with known scale, the chosen perch must lie on a truly feasible
-// stretch (examples/support/support/synthetic_tree.hpp, `perch_truth`) in ≥ 95 % of the trees that
-// have one, and trees built without any feasible perch must give `no_perch`.
+// End-to-end accuracy of find_perch on synthetic trees with ground truth (issue 24): two
+// differently built tree families (examples/support/support/population.hpp: forks and side limbs
+// on bent arcs; crowns grown by space colonisation), each varied widely, judged by the physical
+// definition of a safe perch computed from the drawn geometry (`perch_truth`: clearance from
+// every other limb, local slope, bend over a drone width, border, resolved diameter, supported,
+// bending stress). A chosen perch is right when it lies within 3 px + 3 % of a window of a truly
+// feasible window centre.
 //
-// STATUS: the pipeline reaches 95.2 % (159 of 167), the issue's target, and picks a wrong site
-// on 3 trees. Of the 6 misses ("no perch though one exists"), 3 have a claw diameter within a
-// pixel of the claw's 30 mm minimum plus the constraint's half-pixel margin (43, 204, 234), and
-// 3 have one true stretch about one window long, where the trimming at a junction is 1-6 px
-// more cautious than the truth (52, 68, 138; on 68 the limb is split at a side limb too thick
-// for a twig, and its own continuation trims it at the base: see the README). The wrong sites:
-// 1 "diameter" (a noisy outline read ~1 px wide near the 30 mm minimum: 34; the lower-tercile
-// test of `diameter_range` fixed two more such trees, 41 and 64), 1 junction (54: a limb of
-// the second tree touches this one tip to tip, and the skeleton runs on through the contact),
-// 1 on a tree without a true perch (196). The printed failures say which.
-// Two rules took it from 155 to 159: pinholes filled before the skeleton
-// (`perch_options::max_hole_px`; a one-pixel hole made the skeleton loop round it and cut the
-// limb in pieces on 51, 72 and 134), and a leaf cut by the image's edge never pruned as weak
-// (`prune_skeleton_graph`'s `image`; on 94 the stub of a fork's limb leaving the picture was
-// pruned, and the window ran over the fork).
-// The checks below hold the measured levels as regression floors.
+// What matters most is the wrong answers: a perch on a tree with no feasible stretch, or a
+// perch off every feasible stretch. The checks hold the measured levels as regression floors;
+// the printed failures say which rule the chosen point breaks and by how much.
 #include "perch/pli.hpp"
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
-#include <map>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <sstream>
 #include <string>
-#include <vector>
 
-#include "support/synthetic_tree.hpp"
+#include "support/population.hpp"
 
 namespace {
 
 namespace st = perch::support;
 
-struct member {
-  st::tree_options options;
-  const char* kind = "clean";
-};
-
-/// Tree i of the population. Sizes 480×360, 640×480, 800×600, 960×720 in turn, each `magnify`
-/// times larger (the same trees on a finer pixel grid); the 180 mm trunk is 6–10 % of the width
-/// (1.9–6.3 mm/px at magnify 1); by i mod 10: 0 and 5 no feasible perch (`perch_supply::none`,
-/// every other one of the 5s noisy with twigs), 1 noisy (outline noise, twigs, holes), 2 two
-/// crossing limbs, 3 a second tree, 4 all of these at once, else clean.
-member population(int i, int magnify = 1) {
-  member m;
-  st::tree_options& o = m.options;
-  constexpr int widths[] = {480, 640, 800, 960};
-  o.width = widths[i % 4] * magnify;
-  o.height = o.width * 3 / 4;
-  o.seed = 1000u + static_cast<std::uint32_t>(i);
-  const float share = 0.06f + 0.01f * static_cast<float>((i / 4) % 5);
-  o.trunk_diameter_mm = 180.0f;
-  o.mm_per_px = 180.0f / (share * static_cast<float>(o.width));
-  o.levels = 3;
-  o.side_limbs = 1 + (i / 7) % 2;
-  const float noise = 1.0f + 0.0016f * static_cast<float>(o.width);
-  switch (i % 10) {
-    case 0:
-    case 5:
-      o.perches = st::perch_supply::none;
-      m.kind = "none";
-      if (i % 20 == 5) {
-        o.noise = noise;
-        o.twigs = 8;
-        m.kind = "none+noisy";
-      }
-      break;
-    case 1:
-      o.noise = noise;
-      o.twigs = 10;
-      o.holes = 2;
-      m.kind = "noisy";
-      break;
-    case 2:
-      o.crossings = 2;
-      m.kind = "crossings";
-      break;
-    case 3:
-      o.second_tree = 0.6f;
-      m.kind = "second";
-      break;
-    case 4:
-      o.crossings = 1;
-      o.second_tree = 0.5f;
-      o.noise = noise;
-      o.twigs = 6;
-      m.kind = "mixed";
-      break;
-    default:
-      break;
-  }
-  return m;
-}
-
-constexpr int population_size = 240;
+/// Members of each family in the population.
+constexpr int family_size = 200;
 
 /// How far (px) the reported centre may sit from a feasible window centre: the centre is a
-/// skeleton pixel (rounded, ±1 px from the true centreline), and windows start where the
-/// skeleton's junction nodes are, which sit up to about a limb radius from where the limbs'
-/// surfaces meet (the truth's junction rule): 3 px + 3 % of the window.
+/// skeleton pixel (rounded, ±1 px from the true centreline), and a window's ends follow the
+/// skeleton's junctions, which sit up to about a limb radius from where the limbs' surfaces
+/// meet: 3 px + 3 % of the window.
 float tolerance_px(const st::perch_truth& truth) { return 3.0f + 0.03f * truth.window_px(); }
 
-}  // namespace
-
-TEST_CASE("synthetic trees: the no-perch trees have no feasible stretch, the others mostly do") {
-  int with = 0, natural = 0;
-  for (int i = 0; i < population_size; ++i) {
-    const member m = population(i);
-    const st::synthetic_tree tree = st::make_tree(m.options);
-    const st::perch_truth truth(tree);
-    if (m.options.perches == st::perch_supply::none) {
-      CHECK_MESSAGE(!truth.has_perch(), "tree " << i << " (" << m.kind << ")");
-    } else {
-      ++natural;
-      with += truth.has_perch() ? 1 : 0;
-    }
-  }
-  MESSAGE(with << " of " << natural << " natural trees have a feasible stretch");
-  CHECK(with * 2 > natural);
-}
-
-TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known scale)") {
-  perch::workspace ws;
+/// The paper's four outcomes over a population, and why the wrong sites were wrong.
+struct score {
+  int trees = 0, with_truth = 0, without_truth = 0;
   int correct = 0, incorrect = 0, missed = 0, correct_none = 0, errors = 0;
-  int with_truth = 0, without_truth = 0;
-  int built_none = 0, built_none_no_perch = 0;  // trees built with perch_supply::none
+  int false_perches = 0;          ///< a perch on a tree with no feasible stretch
+  int built_none = 0, built_none_perch = 0;  ///< trees built without a perch, and perches there
+  std::map<std::string, int> causes;         ///< truth verdict at each wrong site
   std::ostringstream failures;
-  std::map<std::string, int> why;  // truth verdict at the wrongly chosen site
-  int near_misses = 0;              // wrong sites within 4 tolerances of a feasible centre
-  for (int i = 0; i < population_size; ++i) {
-    const member m = population(i);
-    const st::synthetic_tree tree = st::make_tree(m.options);
-    const st::perch_truth truth(tree);
-    auto found = perch::find_perch(tree.mask.view(), perch::tendon_claw{},
-                                   perch::fixed_scale{tree.mm_per_px}, ws);
-    if (!found) {
-      ++errors;
-      failures << "tree " << i << " (" << m.kind << "): error " << found.error().message() << "\n";
-      continue;
-    }
-    const bool has = truth.has_perch();
-    if (m.options.perches == st::perch_supply::none) {
-      ++built_none;
-      built_none_no_perch += found->outcome == perch::perch_outcome::no_perch ? 1 : 0;
-    }
-    (has ? with_truth : without_truth) += 1;
-    if (found->outcome != perch::perch_outcome::found) {
-      if (has) {
-        ++missed;
-        failures << "tree " << i << " (" << m.kind << ", " << m.options.width << "x"
-                 << m.options.height << ", " << tree.mm_per_px << " mm/px): no perch, truth has "
-                 << truth.stretches().size() << " stretches\n";
-      } else {
-        ++correct_none;
-      }
-      continue;
-    }
-    const perch::perch_site& best = found->sites.front();
-    const Eigen::Vector2f p(static_cast<float>(best.window.centre.x),
-                            static_cast<float>(best.window.centre.y));
-    const st::site_match near = truth.nearest_site(p);
-    if (has && near.distance_px <= tolerance_px(truth)) {
-      ++correct;
-      continue;
-    }
-    ++incorrect;
-    const st::limb_location at = st::locate(tree, p, st::limb_set::without_twigs);
-    const st::window_truth w = truth.window(at.limb, at.arc_px);
-    ++why[has ? st::to_string(w.verdict) : "no truth perch"];
-    near_misses += near.distance_px <= 4.0f * tolerance_px(truth) ? 1 : 0;
-    failures << "tree " << i << " (" << m.kind << ", " << m.options.width << "x"
-             << m.options.height << ", " << tree.mm_per_px << " mm/px): site (" << p.x() << ", "
-             << p.y() << ") slope " << best.window.slope_deg << " claw "
-             << best.window.claw_diameter_mm << " mm kmax " << best.window.curvature_max_per_mm
-             << "; truth: limb " << at.limb << " arc " << at.arc_px << " off-axis "
-             << at.distance_px << " px, window there " << st::to_string(w.verdict) << " (slope "
-             << w.slope_deg << ", claw " << w.claw_diameter_mm << " mm, clearance gap "
-             << w.clearance_mm << " mm), nearest feasible centre " << near.distance_px
-             << " px (tolerance " << tolerance_px(truth) << ")\n";
-  }
-  const int wrong_when_none = without_truth - correct_none;  // found a perch where none exists
-  const int attempts_with = with_truth;
-  const double rate =
-      attempts_with > 0 ? static_cast<double>(correct) / static_cast<double>(attempts_with) : 0.0;
-  MESSAGE("trees " << population_size << ": " << with_truth << " with a feasible stretch, "
-                   << without_truth << " without; correct location " << correct
-                   << ", incorrect location " << incorrect << " (of which " << wrong_when_none
-                   << " where none exists), no result though one existed " << missed
-                   << ", correctly no result " << correct_none << ", errors " << errors
-                   << "; success rate where one exists " << rate * 100.0 << " %");
-  std::ostringstream verdicts;
-  for (const auto& [verdict, count] : why) verdicts << " " << verdict << " " << count;
-  MESSAGE("incorrect locations by the truth's verdict at the chosen centre:" << verdicts.str()
-          << "; within 4 tolerances of a feasible centre: " << near_misses);
-  MESSAGE("failures:\n" << failures.str());
-  CHECK(errors == 0);
-  MESSAGE("trees built without a perch: " << built_none << ", find_perch said no_perch for "
-                                           << built_none_no_perch);
-  CHECK(built_none >= 20);
-  CHECK(built_none_no_perch == built_none);
-  CHECK(without_truth >= 20);
-  CHECK(with_truth >= 100);
-  MESSAGE("issue 5 target: 95 % where a perch exists; measured " << 100.0 * rate << " %");
-  CHECK(rate >= 0.95);    // the issue's target (measured 95.2 %, 159 of 167)
-  CHECK(incorrect <= 3);  // measured: 3 wrong sites, 1 on a tree without a truth perch
-  CHECK(wrong_when_none <= 1);
-}
 
-/// The population at `magnify` analysed at `downscale`: how often the best site lies on a truly
-/// feasible stretch, and how often a tree without one gets a perch.
-struct downscale_score {
-  int with_truth = 0, correct = 0, without_truth = 0, wrong_when_none = 0, errors = 0;
   [[nodiscard]] double rate() const {
     return with_truth > 0 ? static_cast<double>(correct) / static_cast<double>(with_truth) : 0.0;
   }
+  [[nodiscard]] std::string summary() const {
+    std::ostringstream out;
+    out << trees << " trees, " << with_truth << " with a feasible stretch: correct location "
+        << correct << " (" << 100.0 * rate() << " %), incorrect location " << incorrect
+        << " (of which " << false_perches << " on trees without one), no result though one existed "
+        << missed << ", correctly no result " << correct_none << ", errors " << errors
+        << "; wrong sites by the truth's verdict there:";
+    for (const auto& [cause, count] : causes) out << " " << cause << " " << count;
+    return out.str();
+  }
 };
 
-downscale_score score_downscaled(float downscale, int magnify) {
+/// Runs `find_perch` with `scale_of(tree)` on members [0, count) of `family` and scores it.
+template <class ScaleOf>
+score evaluate(st::tree_family family, int count, ScaleOf&& scale_of,
+               const perch::perch_options& options = {}, int magnify = 1) {
   perch::workspace ws;
-  perch::perch_options options;
-  options.downscale = downscale;
-  downscale_score score;
-  for (int i = 0; i < population_size; ++i) {
-    const member m = population(i, magnify);
-    const st::synthetic_tree tree = st::make_tree(m.options);
-    const st::perch_truth truth(tree);
-    auto found = perch::find_perch(tree.mask.view(), perch::tendon_claw{},
-                                   perch::fixed_scale{tree.mm_per_px}, ws, options);
+  score s;
+  for (int i = 0; i < count; ++i) {
+    const st::population_member m = st::population_tree(family, i, magnify);
+    const st::perch_truth truth(m.tree);
+    auto found = perch::find_perch(m.tree.mask.view(), perch::tendon_claw{}, scale_of(m.tree), ws,
+                                   options);
+    ++s.trees;
+    const std::string name = std::string(st::to_string(family)) + " " + std::to_string(i) + " (" +
+                             m.kind + ", " + std::to_string(m.tree.mask.width()) + "x" +
+                             std::to_string(m.tree.mask.height()) + ", " +
+                             std::to_string(m.tree.mm_per_px) + " mm/px)";
     if (!found) {
-      ++score.errors;
+      ++s.errors;
+      s.failures << name << ": error " << found.error().message() << "\n";
       continue;
     }
     const bool has = truth.has_perch();
-    (has ? score.with_truth : score.without_truth) += 1;
-    if (found->outcome != perch::perch_outcome::found) continue;
+    (has ? s.with_truth : s.without_truth) += 1;
+    const bool perched = found->outcome == perch::perch_outcome::found;
+    if (m.built_without_perch) {
+      ++s.built_none;
+      s.built_none_perch += perched ? 1 : 0;
+    }
+    if (!perched) {
+      (has ? s.missed : s.correct_none) += 1;
+      continue;
+    }
     const perch::pixel c = found->sites.front().window.centre;
     const Eigen::Vector2f p(static_cast<float>(c.x), static_cast<float>(c.y));
-    if (!has) ++score.wrong_when_none;
-    if (has && truth.nearest_site(p).distance_px <= tolerance_px(truth)) ++score.correct;
+    const st::site_match near = truth.nearest_site(p);
+    if (has && near.distance_px <= tolerance_px(truth)) {
+      ++s.correct;
+      continue;
+    }
+    ++s.incorrect;
+    s.false_perches += has ? 0 : 1;
+    const st::limb_location at = st::locate(m.tree, p, st::limb_set::without_twigs);
+    const st::window_truth w = truth.window(at.limb, at.arc_px);
+    ++s.causes[st::to_string(w.verdict)];
+    s.failures << name << ": site (" << c.x << ", " << c.y << "), truth there "
+               << st::to_string(w.verdict) << " (clearance gap " << w.clearance_mm << " mm, slope "
+               << w.slope_deg << ", bend " << w.bend_deg << ", claw " << w.claw_diameter_mm
+               << " mm), nearest feasible centre " << near.distance_px << " px (tolerance "
+               << tolerance_px(truth) << ")\n";
   }
-  MESSAGE("magnify " << magnify << ", downscale " << downscale
-                     << ": success rate where a perch exists " << 100.0 * score.rate() << " % ("
-                     << score.correct << " of " << score.with_truth
-                     << "); a perch where none exists " << score.wrong_when_none << " of "
-                     << score.without_truth);
-  return score;
+  return s;
 }
 
-// Under AddressSanitizer the population takes minutes per pass; the downscale passes run the
-// same pipeline code as the main case (and pli_invariants_test covers downscale's memory
-// safety), so the sanitizer workflow leaves them out.
+score evaluate_known_scale(st::tree_family family, int count,
+                           const perch::perch_options& options = {}, int magnify = 1) {
+  return evaluate(
+      family, count, [](const st::synthetic_tree& t) { return perch::fixed_scale{t.mm_per_px}; },
+      options, magnify);
+}
+
+// Under AddressSanitizer the population takes minutes per pass; the extra passes (trunk prior,
+// downscale) run the same pipeline code as the main case, so the sanitizer workflow leaves them
+// out.
 #if defined(__SANITIZE_ADDRESS__)
 constexpr bool sanitized = true;
 #elif defined(__has_feature)
@@ -267,28 +134,82 @@ constexpr bool sanitized = false;
 constexpr bool sanitized = false;
 #endif
 
-TEST_CASE("find_perch: the accuracy cost of perch_options::downscale (issue 8)" *
-          doctest::skip(sanitized)) {
-  // The same population analysed at reduced resolution. These trees are 480-960 px wide, so
-  // factor 0.25 leaves 120-240 px and limbs of 2-8 px: a harsh test, reported for the README.
-  for (const float factor : {0.5f, 0.25f}) {
-    const downscale_score score = score_downscaled(factor, 1);
-    CHECK(score.errors == 0);
-    // Regression floors at the measured levels (79.6 % at 0.5, 61.7 % at 0.25).
-    CHECK(score.rate() >= (factor == 0.5f ? 0.79 : 0.61));
+}  // namespace
+
+TEST_CASE("synthetic population: trees built without a perch have no feasible stretch") {
+  int built_none = 0;
+  for (int i = 0; i < family_size; ++i) {
+    const st::population_member m = st::arcs_member(i);
+    if (!m.built_without_perch) continue;
+    ++built_none;
+    CHECK_MESSAGE(!st::perch_truth(m.tree).has_perch(), "arcs " << i << " (" << m.kind << ")");
+  }
+  CHECK(built_none >= family_size / 6);
+}
+
+TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known scale)") {
+  for (const st::tree_family family : {st::tree_family::arcs, st::tree_family::colonisation}) {
+    CAPTURE(st::to_string(family));
+    const score s = evaluate_known_scale(family, family_size);
+    MESSAGE(st::to_string(family) << ": " << s.summary());
+    MESSAGE("failures:\n" << s.failures.str());
+    CHECK(s.errors == 0);
+    CHECK(s.built_none_perch == 0);
+    CHECK(s.with_truth >= family_size / 4);
+    // Regression floors at the measured levels.
+    if (family == st::tree_family::arcs) {
+      CHECK(s.built_none >= family_size / 6);
+      CHECK(s.false_perches == 0);  // never a perch where none is safe
+      CHECK(s.rate() >= 0.64);      // measured 66.7 % (58 of 87)
+      CHECK(s.incorrect <= 2);      // measured 1
+    } else {
+      // Space colonisation grows limbs in 3-D; seen from the side, some run inside another
+      // for a stretch, which the mask cannot show (the truth's gap there is negative): most of
+      // the wrong sites are such fused pairs (see docs/accuracy-log.md).
+      CHECK(s.false_perches <= 3);  // measured 3
+      CHECK(s.rate() >= 0.35);      // measured 38 % (19 of 50)
+      CHECK(s.incorrect <= 7);      // measured 6
+    }
   }
 }
 
-// Camera-sized frames: the population four times larger (1920-3840 px wide, where downscale is
-// meant to be used). About 1.5 minutes in an optimised build, so CI skips it; run it with
+TEST_CASE("find_perch: the trunk prior on the same population" * doctest::skip(sanitized)) {
+  // The scale from the trunk's width (paper: 180 mm by default; here each tree's own trunk
+  // diameter, as a user who knows the species would give it).
+  for (const st::tree_family family : {st::tree_family::arcs, st::tree_family::colonisation}) {
+    const score s = evaluate(family, family_size, [](const st::synthetic_tree& t) {
+      const float trunk_px = t.limbs.empty() ? 1.0f : t.limbs.front().diameter_px.front();
+      return perch::trunk_prior{trunk_px * t.mm_per_px};
+    });
+    MESSAGE(st::to_string(family) << ", trunk prior: " << s.summary());
+    CHECK(s.errors == 0);
+    CHECK(s.false_perches <= 2);  // measured 0 (arcs), 1 (colonisation)
+  }
+}
+
+TEST_CASE("find_perch: the accuracy cost of perch_options::downscale" * doctest::skip(sanitized)) {
+  // The arcs family analysed at reduced resolution: 640-1280 px wide trees at factor 0.5 leave
+  // 320-640 px and limbs of a few pixels, which the resolution rule then refuses.
+  for (const float factor : {0.5f}) {
+    perch::perch_options options;
+    options.downscale = factor;
+    const score s = evaluate_known_scale(st::tree_family::arcs, family_size, options);
+    MESSAGE("downscale " << factor << ": " << s.summary());
+    CHECK(s.errors == 0);
+    CHECK(s.false_perches == 0);
+  }
+}
+
+// Camera-sized frames: the arcs family three times larger (1920-3840 px wide, where downscale is
+// meant to be used). Minutes in an optimised build, so CI skips it; run it with
 //   build/test/tests/pli_accuracy_test --no-skip -tc='*camera-sized*'
-TEST_CASE("find_perch: downscale on camera-sized frames (issue 8)" * doctest::skip()) {
+TEST_CASE("find_perch: downscale on camera-sized frames" * doctest::skip()) {
   for (const float factor : {1.0f, 0.5f, 0.25f}) {
-    const downscale_score score = score_downscaled(factor, 4);
-    CHECK(score.errors == 0);
-    // Regression floors at the measured levels (90.3 %, 87.4 %, 87.4 %; a perch on none of
-    // the 65 trees without one).
-    CHECK(score.rate() >= (factor == 1.0f ? 0.9 : 0.87));
-    CHECK(score.wrong_when_none == 0);
+    perch::perch_options options;
+    options.downscale = factor;
+    const score s = evaluate_known_scale(st::tree_family::arcs, family_size, options, 3);
+    MESSAGE("magnify 3, downscale " << factor << ": " << s.summary());
+    CHECK(s.errors == 0);
+    CHECK(s.false_perches == 0);
   }
 }

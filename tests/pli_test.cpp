@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "allocation_counter.hpp"
@@ -590,4 +591,121 @@ TEST_CASE("find_perch: a borrowed workspace too small says how many bytes it nee
   CHECK(scope.count() == 0);
   REQUIRE(found);
   CHECK(found->outcome == perch_outcome::found);
+}
+
+namespace {
+
+/// Windows `constraint` rejected (first failed, in the platform's order).
+std::uint32_t rejected_by(const perch::perch_result& r, std::string_view constraint) {
+  for (const perch::rejection_count& c : r.rejections)
+    if (c.constraint == constraint) return c.windows;
+  return 0;
+}
+
+/// The window's centreline points in input pixels.
+std::vector<perch::point2f> window_points(const perch::perch_result& r, const perch::window_measures& w) {
+  std::vector<perch::point2f> out;
+  const perch::skeleton_limb& limb = r.limbs[static_cast<std::size_t>(w.limb)];
+  for (std::uint32_t i = w.first; i <= w.last; ++i)
+    out.push_back(r.mask.to_input(perch::to_point(limb.points[i]) +
+                                  perch::to_point(r.mask.offset)));
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("find_perch: a site keeps the claw's reach clear of a thick side limb") {
+  // The T tree's limb (31 px = 62 mm) with a 19 px (38 mm) limb rising from it at x = 400:
+  // every point of a site's window is at least 70 mm (35 px) from the side limb's surface,
+  // beyond its own surface (15.5 px), give or take a pixel.
+  auto mask = t_tree(0.0f, 31.0f);
+  capsule(mask, {400, 260}, {400, 60}, 9.5f);
+  perch::workspace ws;
+  auto found = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
+  REQUIRE(found);
+  CHECK(rejected_by(*found, "clearance") > 0);
+  bool on_limb = false;
+  for (const perch::perch_site& site : found->sites) {
+    for (const perch::point2f& p : window_points(*found, site.window)) {
+      if (std::abs(p.y() - 260) > 5) continue;  // the side limb's own windows: above the limb
+      on_limb = true;
+      CAPTURE(p.x());
+      CHECK(std::abs(p.x() - 400) - 9.5f - 15.5f >= 35.0f - 1.0f);
+    }
+  }
+  CHECK(found->outcome == perch_outcome::found);
+  CHECK(on_limb);
+  const std::uint32_t crowded = rejected_by(*found, "clearance");
+  // Without the side limb only the windows next to the trunk are too close to another limb.
+  const auto plain = t_tree(0.0f, 31.0f);
+  auto open = perch::find_perch(plain.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
+  REQUIRE(open);
+  CHECK(rejected_by(*open, "clearance") + 5 < crowded);
+}
+
+TEST_CASE("find_perch: a detached fragment is never a perch, however attractive") {
+  // The T tree, and a level bar of 19 px (38 mm: thinner, so preferred by the scorer over the
+  // limb's 62 mm) floating well above the limb, connected to nothing.
+  auto mask = t_tree(0.0f, 31.0f);
+  capsule(mask, {300, 60}, {620, 60}, 9.5f);
+  perch::workspace ws;
+  auto found = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
+  REQUIRE(found);
+  REQUIRE(found->outcome == perch_outcome::found);
+  CHECK(rejected_by(*found, "supported") > 0);
+  for (const perch::perch_site& site : found->sites) {
+    CAPTURE(site.window.centre.y);
+    CHECK(site.window.grounded);
+    CHECK(std::abs(site.window.centre.y - 60) > 20);
+  }
+  CHECK(std::abs(found->sites.front().window.centre.y - 260) <= 2);
+  // The same bar touching the bottom of the frame (a second stem) is a perch.
+  image<std::uint8_t> grounded_bar(640, 480);
+  capsule(grounded_bar, {300, 60}, {620, 60}, 9.5f);
+  capsule(grounded_bar, {620, 60}, {620, 520}, 20.0f);
+  auto stem = perch::find_perch(grounded_bar.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
+  REQUIRE(stem);
+  REQUIRE(stem->outcome == perch_outcome::found);
+  CHECK(std::abs(stem->sites.front().window.centre.y - 60) <= 2);
+}
+
+TEST_CASE("find_perch: no window's outline comes within 3 px of the frame's edge") {
+  // The T tree's limb runs out of the right edge of a 480 px wide frame.
+  const auto mask = t_tree(0.0f, 31.0f, 480, 480);
+  perch::workspace ws;
+  auto found = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
+  REQUIRE(found);
+  CHECK(rejected_by(*found, "border") > 0);
+  REQUIRE(found->outcome == perch_outcome::found);
+  for (const perch::perch_site& site : found->sites) {
+    CHECK(site.window.border_px >= 3.0f);
+    for (const perch::point2f& p : window_points(*found, site.window))
+      CHECK(p.x() + 15.5f <= 479.0f - 3.0f + 1.0f);
+  }
+}
+
+TEST_CASE("find_perch: no site's window spans a 30 degree kink") {
+  // The T tree's limb level for 170 px from the trunk's surface, then turning 30° upward.
+  image<std::uint8_t> mask(640, 480);
+  capsule(mask, {160, 520}, {160, 120}, 45);
+  const perch::point2f kink(375, 260);
+  capsule(mask, {160, 260}, kink, 15.5f);
+  const float a = 30.0f * std::numbers::pi_v<float> / 180.0f;
+  capsule(mask, kink, kink + 240.0f * perch::point2f(std::cos(a), -std::sin(a)), 15.5f);
+  perch::workspace ws;
+  auto found = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
+  REQUIRE(found);
+  CHECK(rejected_by(*found, "bend") > 0);
+  CHECK(found->outcome == perch_outcome::found);  // on either leg, clear of the kink
+  for (const perch::perch_site& site : found->sites) {
+    const auto points = window_points(*found, site.window);
+    float nearest = 1e9f;
+    for (const perch::point2f& p : points) nearest = std::min(nearest, (p - kink).norm());
+    CAPTURE(site.window.centre.x);
+    CHECK(site.window.bend_deg <= 20.0f);
+    // The window does not reach over the kink: it stays on one leg, clear of the turn.
+    CHECK(!(points.front().x() < kink.x() - 5 && points.back().x() > kink.x() + 5));
+    CHECK(!(points.back().x() < kink.x() - 5 && points.front().x() > kink.x() + 5));
+    CHECK(nearest > 10.0f);
+  }
 }

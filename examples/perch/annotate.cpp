@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
+#include <limits>
 #include <numbers>
 #include <span>
 #include <string>
@@ -52,10 +54,86 @@ std::string format(const char* pattern, double a, double b = 0.0) {
   return buffer;
 }
 
+/// Outlines the clearance envelope of window `m`: the union of discs around its centreline
+/// points, each of the point's radius (less ½ px, as `limb_clearance` reads it) + `needed_mm`
+/// at the window's scale, in input pixels. The outline is the region's boundary pixels,
+/// thickened to about `stroke` (at least 3 px). Nothing for an unknown limb or a scale of 0.
+void draw_envelope(image_view<png::rgb8> canvas, const frame& f, const window_measures& m, float needed_mm,
+                   rgb colour, float stroke, float alpha) {
+  if (m.limb < 0 || static_cast<std::size_t>(m.limb) >= f.r.limbs.size() || !(m.mm_per_px > 0)) return;
+  const skeleton_limb& limb = f.r.limbs[static_cast<std::size_t>(m.limb)];
+  struct disc {
+    draw_point c;
+    float r;
+  };
+  std::vector<disc> discs;
+  const float needed_px = needed_mm / m.mm_per_px;  // analysed pixels
+  float x0 = std::numeric_limits<float>::max(), y0 = x0, x1 = -x0, y1 = -x0;
+  for (std::size_t i = m.first; i <= m.last && i < limb.points.size(); ++i) {
+    const float own = i < limb.radius_px.size() ? std::max(limb.radius_px[i] - 0.5f, 0.0f) : 0.0f;
+    const disc d{f.at(limb.points[i]), (own + needed_px) * f.scale()};
+    if (!std::isfinite(d.r) || !std::isfinite(d.c.x) || !std::isfinite(d.c.y)) continue;
+    discs.push_back(d);
+    x0 = std::min(x0, d.c.x - d.r);
+    y0 = std::min(y0, d.c.y - d.r);
+    x1 = std::max(x1, d.c.x + d.r);
+    y1 = std::max(y1, d.c.y + d.r);
+  }
+  if (discs.empty()) return;
+  // The region on a grid one pixel wider than its box on every side, clipped to the canvas.
+  const int gx0 = std::max(static_cast<int>(std::floor(x0)) - 1, -1);
+  const int gy0 = std::max(static_cast<int>(std::floor(y0)) - 1, -1);
+  const int gx1 = std::min(static_cast<int>(std::ceil(x1)) + 1, canvas.width());
+  const int gy1 = std::min(static_cast<int>(std::ceil(y1)) + 1, canvas.height());
+  if (gx1 <= gx0 || gy1 <= gy0) return;
+  const int gw = gx1 - gx0 + 1, gh = gy1 - gy0 + 1;
+  std::vector<std::uint8_t> inside(static_cast<std::size_t>(gw) * static_cast<std::size_t>(gh), 0);
+  for (const disc& d : discs) {
+    const int ax = std::max(gx0, static_cast<int>(std::floor(d.c.x - d.r)));
+    const int bx = std::min(gx1, static_cast<int>(std::ceil(d.c.x + d.r)));
+    const int ay = std::max(gy0, static_cast<int>(std::floor(d.c.y - d.r)));
+    const int by = std::min(gy1, static_cast<int>(std::ceil(d.c.y + d.r)));
+    const float r2 = d.r * d.r;
+    for (int y = ay; y <= by; ++y)
+      for (int x = ax; x <= bx; ++x) {
+        const float dx = static_cast<float>(x) - d.c.x, dy = static_cast<float>(y) - d.c.y;
+        if (dx * dx + dy * dy <= r2)
+          inside[static_cast<std::size_t>(y - gy0) * static_cast<std::size_t>(gw) + static_cast<std::size_t>(x - gx0)] = 1;
+      }
+  }
+  const auto in = [&](int x, int y) {
+    if (x < gx0 || x > gx1 || y < gy0 || y > gy1) return false;
+    return inside[static_cast<std::size_t>(y - gy0) * static_cast<std::size_t>(gw) + static_cast<std::size_t>(x - gx0)] != 0;
+  };
+  // Boundary pixels: inside, with a 4-neighbour outside. Thickened inwards and outwards.
+  std::vector<std::uint8_t> ink(inside.size(), 0);
+  const int half = std::max(1, static_cast<int>(std::lround(0.3f * stroke)));
+  for (int y = gy0; y <= gy1; ++y)
+    for (int x = gx0; x <= gx1; ++x) {
+      if (!in(x, y) || (in(x - 1, y) && in(x + 1, y) && in(x, y - 1) && in(x, y + 1))) continue;
+      for (int v = std::max(gy0, y - half); v <= std::min(gy1, y + half); ++v)
+        for (int u = std::max(gx0, x - half); u <= std::min(gx1, x + half); ++u)
+          ink[static_cast<std::size_t>(v - gy0) * static_cast<std::size_t>(gw) + static_cast<std::size_t>(u - gx0)] = 1;
+    }
+  for (int y = std::max(gy0, 0); y <= std::min(gy1, canvas.height() - 1); ++y)
+    for (int x = std::max(gx0, 0); x <= std::min(gx1, canvas.width() - 1); ++x)
+      if (ink[static_cast<std::size_t>(y - gy0) * static_cast<std::size_t>(gw) + static_cast<std::size_t>(x - gx0)] != 0)
+        support::put_pixel(canvas, x, y, colour, alpha);
+}
+
+/// "clearance 12 mm": a near miss's constraint and by how much it missed.
+std::string miss_label(const near_miss& m) {
+  if (m.unit.empty()) return std::string(m.constraint);
+  const double v = static_cast<double>(m.miss);
+  const char* pattern = v >= 100 ? " %.0f " : v >= 1 ? " %.1f " : " %.2g ";
+  return std::string(m.constraint) + format(pattern, v) + std::string(m.unit);
+}
+
 }  // namespace
 
 image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geometry,
-                          const image<std::uint8_t>& mask, const image<png::rgb8>* photo) {
+                          const clearance_envelope& envelope, const image<std::uint8_t>& mask,
+                          const image<png::rgb8>* photo) {
   image<png::rgb8> picture(mask.width(), mask.height());
   const image_view<png::rgb8> canvas = picture.view();
   if (photo != nullptr && photo->width() == mask.width() && photo->height() == mask.height()) {
@@ -95,15 +173,21 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
     });
   }
 
-  // 3. Near misses (faint), then the ranked sites' windows.
+  // 3. Near misses (faint, a clearance miss with its envelope), then the ranked sites' windows
+  //    and the chosen one's clearance envelope.
+  const auto needed_mm = [&](const window_measures& m) {
+    return envelope.margin_mm + envelope.uncertainty_px * m.mm_per_px;
+  };
   for (const near_miss& m : r.near_misses) {
     if (!m.present) continue;
     const std::vector<draw_point> pts = window_points(f, m.window);
+    if (envelope.margin_mm >= 0 && m.constraint == clearance::name)
+      draw_envelope(canvas, f, m.window, needed_mm(m.window), miss_colour, std::max(1.0f, 0.5f * stroke), 0.45f);
     support::draw_polyline(canvas, pts, miss_colour, 3.0f * stroke, 0.45f);
     if (!pts.empty()) {
       const draw_point c = pts[pts.size() / 2];
       support::draw_text(canvas, static_cast<int>(c.x + 2.0f * stroke), static_cast<int>(c.y + 2.0f * stroke),
-                         m.constraint, miss_colour,
+                         miss_label(m), miss_colour,
                          {.scale = text_scale, .alpha = 0.9f, .background = colours::black,
                           .background_alpha = 0.5f});
     }
@@ -112,6 +196,10 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
     const std::vector<draw_point> pts = window_points(f, r.sites[i].window);
     support::draw_polyline(canvas, pts, site_colour, 3.0f * stroke, i == 0 ? 0.9f : 0.7f);
   }
+  constexpr rgb envelope_colour{envelope_rgb.r, envelope_rgb.g, envelope_rgb.b};
+  if (envelope.margin_mm >= 0 && !r.sites.empty())
+    draw_envelope(canvas, f, r.sites.front().window, needed_mm(r.sites.front().window), envelope_colour,
+                  std::max(2.0f, 0.6f * stroke), 1.0f);
 
   // 4. Graph nodes.
   {
@@ -154,6 +242,7 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
                      {.scale = text_scale, .background = colours::black, .background_alpha = 0.7f, .padding_px = 3 * text_scale});
 
   const std::string ramp = format("diameter 0-%.0f mm", static_cast<double>(diameter_top_mm));
+  const std::string envelope_label = format("clearance: r + %.0f mm", static_cast<double>(envelope.margin_mm));
   const support::legend_entry entries[] = {
       {.label = ramp, .marker = support::legend_marker::ramp},
       {.label = "pruned skeleton", .colour = pruned_colour, .marker = support::legend_marker::line, .alpha = 0.6f},
@@ -162,9 +251,14 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
       {.label = "ranked windows", .colour = site_colour, .marker = support::legend_marker::line},
       {.label = "near misses", .colour = miss_colour, .marker = support::legend_marker::line, .alpha = 0.45f},
       {.label = "perch: claw x diameter", .colour = perch_colour, .marker = support::legend_marker::outline},
+      {.label = envelope_label,
+       .colour = envelope_colour, .marker = support::legend_marker::outline},
   };
   const support::legend_options legend{.scale = text_scale};
-  const support::text_box box = support::legend_size(entries, legend);
+  // The envelope's entry only when the platform keeps a clearance.
+  const std::span<const support::legend_entry> shown(entries, envelope.margin_mm >= 0 ? std::size(entries)
+                                                                                         : std::size(entries) - 1);
+  const support::text_box box = support::legend_size(shown, legend);
   // The legend goes to the corner (top right, bottom right, bottom left) that hides the least
   // tree and not the chosen perch.
   const int margin = 6 * text_scale;
@@ -193,7 +287,7 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
       best = k;
     }
   }
-  support::draw_legend(canvas, corners[best][0], corners[best][1], entries, legend);
+  support::draw_legend(canvas, corners[best][0], corners[best][1], shown, legend);
 
   // 7. The chosen perch, on top of everything.
   if (!r.sites.empty()) {

@@ -15,6 +15,7 @@ platform_limits limits_of(platform_id id) {
     platform_limits out;
     out.drone_width_mm = p.geometry.drone_width_mm;
     out.claw_width_mm = p.geometry.claw_width_mm;
+    out.mass_kg = p.geometry.mass_kg;
     for_each_leaf(p.constraints, [&](const auto& leaf, std::size_t) {
       using leaf_type = std::remove_cvref_t<decltype(leaf)>;
       if constexpr (std::is_same_v<leaf_type, diameter_range>) {
@@ -24,6 +25,20 @@ platform_limits limits_of(platform_id id) {
         out.slope_max_deg = leaf.max_deg;
       } else if constexpr (std::is_same_v<leaf_type, min_slope>) {
         out.slope_min_deg = leaf.min_deg;
+        out.has_min_slope = true;
+      } else if constexpr (std::is_same_v<leaf_type, max_bend>) {
+        out.bend_max_deg = leaf.max_deg;
+      } else if constexpr (std::is_same_v<leaf_type, image_border>) {
+        out.border_px = leaf.margin_px;
+      } else if constexpr (std::is_same_v<leaf_type, resolved_diameter>) {
+        out.resolution_px = leaf.uncertainty_px;
+      } else if constexpr (std::is_same_v<leaf_type, bending_stress>) {
+        out.mass_kg = leaf.mass_kg;
+        out.max_stress_mpa = leaf.modulus_of_rupture_mpa / (leaf.safety_factor * leaf.load_factor);
+      } else if constexpr (std::is_same_v<leaf_type, clearance>) {
+        out.has_clearance = true;
+        out.clearance_mm = leaf.margin_mm;
+        out.clearance_uncertainty_px = leaf.uncertainty_px;
       }
     });
     return out;
@@ -156,7 +171,12 @@ analysis_output run(const analysis_request& request, const run_config& config, c
   out.total_ms = r.timing.total_ms;
   if (request.detect_json) out.detect_json = detect_json(r);
   if (request.graph_json) out.graph_json = graph_json(r);
-  if (request.annotation) out.annotated = annotate(r, platform.geometry, *request.mask, request.photo);
+  if (request.annotation) {
+    const platform_limits limits = limits_of(config.platform);
+    const clearance_envelope envelope{.margin_mm = limits.has_clearance ? limits.clearance_mm : -1.0f,
+                                      .uncertainty_px = limits.clearance_uncertainty_px};
+    out.annotated = annotate(r, platform.geometry, envelope, *request.mask, request.photo);
+  }
   return out;
 }
 

@@ -26,6 +26,7 @@ void write_site(json_writer& json, const perch_site& s) {
   json.member("slope_deg", tidy(m.slope_deg));
   json.member("diameter_mm", tidy(m.claw_diameter_mm));
   json.member("curvature_per_mm", tidy(m.curvature_max_per_mm));
+  json.member("slope_max_deg", tidy(m.slope_max_deg)).member("bend_deg", tidy(m.bend_deg));
   json.member("penalty", tidy(s.penalty));
   json.member("branch", m.branch).member("component", m.component);
   json.member("rank", s.rank);

@@ -15,9 +15,13 @@ namespace perch::tool {
 ///   "platform", "perch": site|null, "candidates": [site...], "rejected": {constraint: count},
 ///   "near_misses": [...], "windows": {"measured", "viable"}, "graph": {"nodes", "edges",
 ///   "components", "holes_filled"}, "timing_ms": {stage: ms, ..., "total"}}`
-/// with site = `{"x", "y", "slope_deg", "diameter_mm", "curvature_per_mm", "penalty", "branch",
-/// "component", "rank"[, "position_m"]}` (x, y in input pixels; diameter = claw region mean;
-/// curvature = the window's largest). Pretty-printed, ends with a newline.
+/// with site = `{"x", "y", "slope_deg", "diameter_mm", "curvature_per_mm", "slope_max_deg",
+/// "bend_deg", "penalty", "branch", "component", "rank"[, "position_m"]}` (x, y in input pixels;
+/// diameter = claw region mean; curvature = the window's largest; slope_max_deg = the steepest
+/// local tangent, bend_deg = the largest turn over a drone width) and near miss =
+/// `{"constraint", "miss", "unit", "x", "y"}`: every constraint of the platform by its name
+/// (`border` px, `resolution` px, `bend` deg, `clearance` mm, `supported`, ...), `miss` in its
+/// unit. Pretty-printed, ends with a newline.
 [[nodiscard]] std::string detect_json(const perch_result& r);
 
 /// The `perch graph` document (after pruning): `{"components", "mm_per_px", "nodes": [{"id",

@@ -1,10 +1,13 @@
 // perch synth: synthetic tree masks with their ground truth (and a few hand-made shapes).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <numbers>
 #include <random>
 #include <system_error>
 
+#include "support/colonisation_tree.hpp"
 #include "truth.hpp"
 #include "tool.hpp"
 
@@ -90,6 +93,47 @@ synthetic make_synthetic(std::uint32_t seed, tree_kind kind) {
   return {std::move(truth), std::move(tree.mask)};
 }
 
+/// Crown forms of the colonisation family, by name (`--form`).
+constexpr st::crown_form forms[] = {st::crown_form::decurrent, st::crown_form::excurrent,
+                                    st::crown_form::columnar, st::crown_form::irregular};
+constexpr std::string_view form_names[] = {"decurrent", "excurrent", "columnar", "irregular"};
+/// What the i-th colonisation tree of a run carries (i mod 3).
+constexpr std::string_view colonisation_variants[] = {"clean", "noisy", "two-trees"};
+
+/// A space-colonisation tree (support/colonisation_tree.hpp): 960x720, a 150–300 mm trunk
+/// spanning 3.5–6 % of the width (scale clamped to 1.5–8 mm/px); `variant` 1 adds outline
+/// noise, pinholes, twigs and fragments, 2 a second tree and limbs leaving the frame.
+synthetic make_colonisation_synthetic(std::uint32_t seed, std::size_t form, std::size_t variant) {
+  std::mt19937 rng(seed ^ 0x2545f491u);
+  st::colonisation_options o;
+  o.seed = seed;
+  o.width = 960;
+  o.height = 720;
+  o.form = forms[form];
+  o.trunk_diameter_mm = uniform(rng, 150.0f, 300.0f);
+  o.mm_per_px = std::clamp(
+      o.trunk_diameter_mm / (uniform(rng, 0.035f, 0.06f) * static_cast<float>(o.width)), 1.5f, 8.0f);
+  if (variant == 1) {
+    o.noise = uniform(rng, 1.0f, 2.5f);
+    o.holes = 3;
+    o.twigs = 12 + static_cast<int>(rng() % 12u);
+    o.fragments = 4 + static_cast<int>(rng() % 6u);
+  } else if (variant == 2) {
+    o.second_tree = uniform(rng, 0.45f, 0.75f);
+    o.overflow = uniform(rng, 0.15f, 0.4f);
+  }
+  st::synthetic_tree tree = st::make_colonisation_tree(o);
+  truth_file truth;
+  truth.kind = "colonisation-" + std::string(form_names[form]) + "-" +
+               std::string(colonisation_variants[variant]);
+  truth.seed = seed;
+  truth.width = o.width;
+  truth.height = o.height;
+  truth.mm_per_px = o.mm_per_px;
+  truth.limbs = std::move(tree.limbs);
+  return {std::move(truth), std::move(tree.mask)};
+}
+
 /// Re-draws the mask of `truth` (every limb as tapered capsules), as make_tree does.
 image<std::uint8_t> draw_truth(const truth_file& truth) {
   image<std::uint8_t> mask(truth.width, truth.height, 0);
@@ -169,10 +213,17 @@ int run_synth(int argc, const char* const* argv) {
                            "Writes synthetic tree masks (OUT/synth-SEED.png, 255 = tree) with their ground\n"
                            "truth (OUT/synth-SEED.truth.json) for perch eval. Tree i of the run has seed\n"
                            "SEED + i and kind i mod 6: clean, bushy, noisy (outline noise, twigs, holes),\n"
-                           "two-trees, no-perch (a bare trunk), small (640x480).");
+                           "two-trees, no-perch (a bare trunk), small (640x480).\n"
+                           "--family colonisation grows trees by space colonisation instead (crown\n"
+                           "form --form, or all four in turn; tree i is clean, noisy (outline noise,\n"
+                           "pinholes, twigs, detached fragments) or two-trees (a second tree, limbs\n"
+                           "leaving the frame) by i mod 3).");
   args.add_option("seed", "S", "seed of the first tree", "1");
   args.add_option("count", "N", "number of trees", "6");
   args.add_option("out", "DIR", "output directory (created if missing)");
+  args.add_option("family", "F", "rules (make_tree) or colonisation (space colonisation)", "rules");
+  args.add_option("form", "FORM",
+                  "colonisation crown: decurrent, excurrent, columnar, irregular or mixed", "mixed");
   args.add_flag("shapes", "also write the hand-made shapes shape-limb, shape-y, shape-steep");
   args.set_epilog("Example (the sample data): perch synth --seed 1 --count 6 --shapes --out examples/data");
   int exit = exit_ok;
@@ -188,6 +239,19 @@ int run_synth(int argc, const char* const* argv) {
     report_error("synth", "missing option --out DIR");
     return exit_usage;
   }
+  const std::string family = args.get_string("family", "rules").value;
+  const std::string form_name = args.get_string("form", "mixed").value;
+  if (family != "rules" && family != "colonisation") {
+    report_error("synth", "--family must be rules or colonisation, not " + family);
+    return exit_usage;
+  }
+  std::size_t form = std::size(forms);  // mixed
+  for (std::size_t f = 0; f < std::size(forms); ++f)
+    if (form_name == form_names[f]) form = f;
+  if (form == std::size(forms) && form_name != "mixed") {
+    report_error("synth", "unknown --form " + form_name);
+    return exit_usage;
+  }
   const std::filesystem::path dir(std::string(*args.value("out")));
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
@@ -197,7 +261,12 @@ int run_synth(int argc, const char* const* argv) {
   }
   for (int i = 0; i < count.value; ++i) {
     const std::uint32_t s = seed.value + static_cast<std::uint32_t>(i);
-    const synthetic made = make_synthetic(s, static_cast<tree_kind>(i % 6));
+    const auto index = static_cast<std::size_t>(i);
+    const synthetic made =
+        family == "colonisation"
+            ? make_colonisation_synthetic(s, form < std::size(forms) ? form : index % std::size(forms),
+                                          index % std::size(colonisation_variants))
+            : make_synthetic(s, static_cast<tree_kind>(i % 6));
     const truth_file& truth = made.truth;
     const std::string name = "synth-" + std::to_string(s);
     if (const std::string e = write_pair(dir, name, truth, made.mask); !e.empty()) {

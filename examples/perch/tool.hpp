@@ -50,7 +50,8 @@ decltype(auto) visit_platform(platform_id id, F&& f) {
   return f(tendon_claw{});
 }
 
-/// The graspable diameters and slope limits a platform's constraints declare (for `eval`).
+/// The limits a platform's constraints declare (for `eval`'s truth and `--annotate`'s clearance
+/// envelope). A rule the platform does not have keeps the value that never fails.
 struct platform_limits {
   float diameter_min_mm = 0;
   float diameter_max_mm = 1e9f;
@@ -58,6 +59,15 @@ struct platform_limits {
   float slope_max_deg = 90;
   float drone_width_mm = 0;
   float claw_width_mm = 0;
+  float mass_kg = 0;
+  bool has_min_slope = false;     ///< `min_slope` (the synthetic truth has no such rule)
+  float bend_max_deg = 180;       ///< `max_bend`
+  float border_px = 0;            ///< `image_border`
+  float resolution_px = 0;        ///< `resolved_diameter`: uncertainty of a diameter, px
+  float max_stress_mpa = 1e30f;   ///< `bending_stress`: modulus of rupture / safety / load
+  bool has_clearance = false;     ///< `clearance`
+  float clearance_mm = 0;         ///< its margin: the free gap around the limb's surface
+  float clearance_uncertainty_px = 0;  ///< and the pixels added to it (`clearance::uncertainty_px`)
 };
 [[nodiscard]] platform_limits limits_of(platform_id id);
 

@@ -38,6 +38,7 @@ std::string truth_json(const truth_file& truth) {
     json.begin_object();
     json.member("kind", kind_name(limb.kind)).member("level", limb.level).member("parent", limb.parent);
     json.member("base_heading_rad", limb.base_heading_rad).member("curvature_per_px", limb.curvature_per_px);
+    json.member("tree", limb.tree).member("exact_arc", limb.exact_arc);
     json.key("centreline").begin_array(support::json_layout::single_line);
     for (const Eigen::Vector2f& p : limb.centreline)
       json.begin_array().value(round2(p.x())).value(round2(p.y())).end_array();
@@ -84,6 +85,10 @@ std::string read_truth(const std::filesystem::path& path, truth_file& truth) {
     if (number(l, "parent", v)) limb.parent = static_cast<int>(v);
     if (number(l, "base_heading_rad", v)) limb.base_heading_rad = static_cast<float>(v);
     if (number(l, "curvature_per_px", v)) limb.curvature_per_px = static_cast<float>(v);
+    if (number(l, "tree", v)) limb.tree = static_cast<int>(v);
+    // The arc's heading and curvature answer tangents only when the centreline samples it.
+    if (const json_value* e = l.find("exact_arc"); e != nullptr && e->kind == json_value::type::boolean)
+      limb.exact_arc = e->boolean;
     if (const json_value* k = l.find("kind"); k != nullptr && k->is_string())
       limb.kind = k->text == "trunk" ? support::limb_kind::trunk
                   : k->text == "twig" ? support::limb_kind::twig

@@ -1,8 +1,9 @@
 /// \file
 /// Ground truth of a synthetic tree as JSON (written by `perch synth`, read by `perch eval`):
 /// `{"generator", "kind", "seed", "width", "height", "mm_per_px", "limbs": [{"kind":
-/// "trunk"|"limb"|"twig", "level", "parent", "base_heading_rad", "curvature_per_px",
-/// "centreline": [[x, y], ...], "diameter_px": [...]}]}` — px, y down, base to tip.
+/// "trunk"|"limb"|"twig"|"fragment", "level", "parent", "base_heading_rad", "curvature_per_px",
+/// "tree", "exact_arc", "centreline": [[x, y], ...], "diameter_px": [...]}]}` — px, y down, base
+/// to tip. `perch eval` judges the windows of a tree read back with `support::perch_truth`.
 #pragma once
 
 #include <cstdint>

@@ -421,8 +421,10 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
                       *grounded, *component_area);
   for (std::size_t l = 0; l < out.limbs.size(); ++l)
     (*stretches)[l] = limb_stretch(graph, *next, out.limbs[l]);
-  auto obstacles = find_limb_obstacles(graph, out.limbs, *next, *stretches, w, h, mm_per_px, ws,
-                                       options.obstacles);
+  auto obstacles = find_limb_obstacles(graph, out.limbs, *next, *stretches, tree_mask,
+                                       image_view<const std::uint8_t>(skeleton),
+                                       image_view<const std::uint32_t>(dist), detail::runs_of(listed, skeleton),
+                                       mm_per_px, ws, options.obstacles);
   if (!obstacles) return unexpected{obstacles.error()};
   auto surroundings = detail::limb_neighbourhoods(out.limbs, obstacles->own, ws);
   if (!surroundings) return unexpected{surroundings.error()};

@@ -2,8 +2,10 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -304,4 +306,256 @@ TEST_CASE(
   perch::cross_section_diameters(large.view(), moved, radius, b);
   CHECK(a == b);
   CHECK(a[10] > 10.0f);
+}
+
+namespace {
+
+// 8-connected digital segments through `corners` (image y down), each corner once.
+std::vector<perch::pixel> digital_polyline(const std::vector<perch::point2f>& corners) {
+  std::vector<perch::pixel> out;
+  for (std::size_t c = 0; c + 1 < corners.size(); ++c) {
+    const perch::point2f a = corners[c], b = corners[c + 1];
+    const float length = (b - a).norm();
+    for (float t = 0; t <= length; t += 0.25f) {
+      const perch::point2f q = a + (b - a) * (t / length);
+      const perch::pixel p{static_cast<int>(std::lround(q.x())), static_cast<int>(std::lround(q.y()))};
+      if (out.empty() || !(out.back() == p)) out.push_back(p);
+    }
+  }
+  return out;
+}
+
+float degrees_between(float ax, float ay, float bx, float by) {
+  const float dot = std::clamp(ax * bx + ay * by, -1.0f, 1.0f);
+  return std::acos(dot) * 180.0f / std::numbers::pi_v<float>;
+}
+
+struct profiles {
+  std::vector<float> arc, tx, ty, bend;
+  profiles(const std::vector<perch::pixel>& points, float radius, float reach_px)
+      : arc(points.size()), tx(points.size()), ty(points.size()), bend(points.size()) {
+    const std::vector<float> r(points.size(), radius);
+    perch::arc_lengths(points, arc);
+    perch::tangent_profile(points, arc, r, tx, ty);
+    perch::bend_profile(arc, tx, ty, reach_px, bend);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("measures: local tangents of digital lines within 3 degrees, oriented first to last") {
+  // Every direction (both ways along each line): unit, pointing along the walk, and within 3°
+  // of the line away from the ends at a limb's radius of 10 px or more (the fit's half arc).
+  // Over a shorter arc one staircase step weighs more: 5° at 6–8 px.
+  for (float angle = -180.0f; angle < 180.0f; angle += 5.0f) {
+    for (const float radius : {6.0f, 8.0f, 10.0f, 16.0f}) {
+      const auto line = digital_line(angle, 160.0f);
+      const std::vector<float> r(line.size(), radius);
+      std::vector<float> arc(line.size()), tx(line.size()), ty(line.size());
+      perch::arc_lengths(line, arc);
+      perch::tangent_profile(line, arc, r, tx, ty);
+      const float a = angle * std::numbers::pi_v<float> / 180.0f;
+      float worst = 0;
+      for (std::size_t i = 0; i < line.size(); ++i) {
+        REQUIRE(std::abs(tx[i] * tx[i] + ty[i] * ty[i] - 1.0f) < 1e-4f);
+        const float error = degrees_between(tx[i], ty[i], std::cos(a), std::sin(a));
+        REQUIRE(error < 90.0f);  // oriented along the walk everywhere, ends included
+        if (arc[i] >= radius && arc[i] <= arc.back() - radius) worst = std::max(worst, error);
+      }
+      CAPTURE(angle);
+      CAPTURE(radius);
+      CHECK(worst < (radius >= 10.0f ? 3.0f : 5.5f));
+    }
+  }
+}
+
+TEST_CASE("measures: local tangents follow an arc, over the point's own radius") {
+  for (const float r : {60.0f, 120.0f, 240.0f}) {
+    const auto arc_points = digital_arc(r, 90.0f);
+    const std::vector<float> radius(arc_points.size(), 8.0f);
+    std::vector<float> arc(arc_points.size()), tx(arc_points.size()), ty(arc_points.size());
+    perch::arc_lengths(arc_points, arc);
+    perch::tangent_profile(arc_points, arc, radius, tx, ty);
+    float worst = 0;
+    for (std::size_t i = 0; i < arc_points.size(); ++i) {
+      if (arc[i] < 8.0f || arc[i] > arc.back() - 8.0f) continue;
+      // Counter-clockwise on screen from angle 0: the tangent at angle t is (−sin t, cos t).
+      const float t = std::atan2(static_cast<float>(arc_points[i].y - 500),
+                                 static_cast<float>(arc_points[i].x - 500));
+      worst = std::max(worst, degrees_between(tx[i], ty[i], -std::sin(t), std::cos(t)));
+    }
+    CAPTURE(r);
+    CHECK(worst < 3.0f);
+  }
+  // The half arc is the point's own radius (at least `min_half_arc_px`): 12 px before a right
+  // angle a thin limb's tangent is its leg's, a thick limb's reaches round the corner.
+  const auto corner = digital_polyline({{100, 100}, {200, 100}, {200, 200}});
+  std::size_t at = 0;
+  while (!(corner[at] == perch::pixel{188, 100})) ++at;
+  std::vector<float> arc(corner.size()), tx(corner.size()), ty(corner.size());
+  perch::arc_lengths(corner, arc);
+  for (const float radius : {0.0f, 5.0f, 10.0f}) {
+    std::vector<float> r(corner.size(), 30.0f);
+    r[at] = radius;  // only the point's own radius counts
+    perch::tangent_profile(corner, arc, r, tx, ty);
+    CAPTURE(radius);
+    CHECK(degrees_between(tx[at], ty[at], 1.0f, 0.0f) < 1.0f);
+  }
+  const std::vector<float> thick(corner.size(), 30.0f);
+  perch::tangent_profile(corner, arc, thick, tx, ty);
+  CHECK(degrees_between(tx[at], ty[at], 1.0f, 0.0f) > 5.0f);
+  // The minimum half arc applies to thin limbs: 30 px reaches round the corner too.
+  const std::vector<float> none(corner.size(), 0.0f);
+  perch::tangent_profile(corner, arc, none, tx, ty, 30.0f);
+  CHECK(degrees_between(tx[at], ty[at], 1.0f, 0.0f) > 5.0f);
+}
+
+TEST_CASE("measures: bend over exact tangents: reach before and after, clipped at the ends") {
+  // Arc length i at point i, the tangent turning by 1° per point: over ±10 px, 20° inside,
+  // fewer where the reach runs past an end.
+  const std::size_t n = 100;
+  std::vector<float> arc(n), tx(n), ty(n), bend(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    arc[i] = static_cast<float>(i);
+    const float a = static_cast<float>(i) * std::numbers::pi_v<float> / 180.0f;
+    tx[i] = std::cos(a);
+    ty[i] = std::sin(a);
+  }
+  perch::bend_profile(arc, tx, ty, 10.0f, bend);
+  for (std::size_t i = 10; i + 10 < n; ++i) CHECK(bend[i] == doctest::Approx(20.0f).epsilon(1e-3));
+  CHECK(bend[0] == doctest::Approx(10.0f).epsilon(1e-3));
+  CHECK(bend[3] == doctest::Approx(13.0f).epsilon(1e-3));
+  CHECK(bend[97] == doctest::Approx(12.0f).epsilon(1e-3));
+  CHECK(bend[99] == doctest::Approx(10.0f).epsilon(1e-3));
+  // Between points, the reach rounds outward (at least the reach each way).
+  perch::bend_profile(arc, tx, ty, 10.5f, bend);
+  CHECK(bend[50] == doctest::Approx(22.0f).epsilon(1e-3));
+  // A reach of 0 compares a point with itself... and its neighbour ahead at most.
+  perch::bend_profile(arc, tx, ty, 0.0f, bend);
+  for (std::size_t i = 0; i < n; ++i) CHECK(bend[i] <= 1.001f);
+  // Opposite tangents: 180°, never NaN.
+  std::vector<float> back_x{1.0f, -1.0f}, back_y{0.0f, 0.0f}, two_arc{0.0f, 1.0f}, two(2);
+  perch::bend_profile(two_arc, back_x, back_y, 5.0f, two);
+  CHECK(two[0] == doctest::Approx(180.0f));
+  CHECK(two[1] == doctest::Approx(180.0f));
+}
+
+TEST_CASE("measures: bend of a straight limb is ~0, of a kink its angle, of an arc reach·2/R") {
+  const float reach = 45.0f;  // half the claw's 180 mm drone width at 2 mm/px
+  for (float angle = 0; angle < 180.0f; angle += 15.0f) {
+    const profiles line(digital_line(angle, 300.0f), 8.0f, reach);
+    CAPTURE(angle);
+    for (const float b : line.bend) CHECK(b < 4.0f);
+  }
+  // A 30° kink after 150 px (down-right, image y down), at several headings.
+  for (const float heading : {0.0f, 20.0f, -65.0f}) {
+    const float h = heading * std::numbers::pi_v<float> / 180.0f;
+    const float k = (heading + 30.0f) * std::numbers::pi_v<float> / 180.0f;
+    const perch::point2f start(300, 300);
+    const perch::point2f kink = start + 150.0f * perch::point2f(std::cos(h), std::sin(h));
+    const perch::point2f end = kink + 150.0f * perch::point2f(std::cos(k), std::sin(k));
+    const auto points = digital_polyline({start, kink, end});
+    const profiles kinked(points, 8.0f, reach);
+    std::size_t at = 0;  // the point nearest the kink
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if ((perch::to_point(points[i]) - kink).norm() < (perch::to_point(points[at]) - kink).norm())
+        at = i;
+    const float s = kinked.arc[at];
+    CAPTURE(heading);
+    float peak = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const float from_kink = std::abs(kinked.arc[i] - s);
+      peak = std::max(peak, kinked.bend[i]);
+      if (from_kink <= 0.5f * reach) CHECK(kinked.bend[i] >= 25.0f);
+      if (from_kink >= reach + 8.0f + 3.0f) CHECK(kinked.bend[i] < 4.0f);
+    }
+    CHECK(peak <= 34.0f);
+  }
+  // An arc of radius R: the tangent turns by (reach after + reach before) / R radians, the
+  // arcs clipped at the ends (where the one-sided fit over the last 8 px reads the tangent 4 px
+  // in). Each tangent is good to about 2° on a digital arc, so the bend to 4.5°.
+  const float R = 150.0f;
+  const auto arc_points = digital_arc(R, 120.0f);
+  const profiles bent(arc_points, 8.0f, reach);
+  const float total = bent.arc.back();
+  for (std::size_t i = 0; i < arc_points.size(); i += 5) {
+    const float s = bent.arc[i];
+    const float expected = (std::min(s + reach, total - 4.0f) - std::max(s - reach, 4.0f)) / R *
+                           180.0f / std::numbers::pi_v<float>;
+    CAPTURE(s);
+    CHECK(std::abs(bent.bend[i] - expected) < 4.5f);
+  }
+}
+
+TEST_CASE("windows: border gap, steepest tangent, bend and grounding per window") {
+  // A level limb 300 px long at image row 220 (points + offset) in a 515 × 230 frame.
+  const auto line = digital_line(0.0f, 300.0f);  // (200, 200) … (500, 200)
+  std::vector<float> radius;  // 5 px, and one wide point (8 px) under the first windows
+  for (std::size_t i = 0; i < line.size(); ++i) radius.push_back(i == 50 ? 8.0f : 5.0f);
+  std::vector<float> scratch(perch::window_scratch_floats(line.size()));
+  perch::workspace ws;
+  auto out = perch::bounded_vector<perch::window_measures>::make(ws, 64);
+  REQUIRE(out);
+  perch::branch_geometry branch{line, radius, 0, 0, perch::origin_end::front, {10, 20}};
+  branch.frame_width = 515;
+  branch.frame_height = 230;
+  REQUIRE(perch::measure_windows(branch, perch::fixed_scale{2.0f}, 2.0f, scratch, *out));
+  REQUIRE(out->size() == 22);
+  // First window (x 210 … 300, row 220): 9 px to the bottom edge less the widest radius, 8.
+  CHECK((*out)[0].border_px == doctest::Approx(1.0f));
+  CHECK((*out)[1].border_px == doctest::Approx(1.0f));   // x 230 …: still over point 50
+  CHECK((*out)[6].border_px == doctest::Approx(4.0f));   // x 270 …: past it, 9 − 5
+  // Last window (… x 510): 4 px to the right edge less 5.
+  CHECK(out->back().border_px == doctest::Approx(-1.0f));
+  for (const auto& w : *out) {
+    CHECK(w.grounded);
+    CHECK(w.slope_max_deg < 3.0f);
+    CHECK(w.bend_deg < 3.0f);
+  }
+  // Unframed (0 × 0): not measured; not grounded: copied to every window.
+  branch.frame_width = 0;
+  branch.frame_height = 0;
+  branch.grounded = false;
+  out->clear();
+  REQUIRE(perch::measure_windows(branch, perch::fixed_scale{2.0f}, 2.0f, scratch, *out));
+  for (const auto& w : *out) {
+    CHECK(w.border_px == std::numeric_limits<float>::max());
+    CHECK(!w.grounded);
+  }
+
+  // A limb level for 150 px, then rising at 40° for 150 px: the windows across the bend are
+  // level on average but steep at one end, and turn by 40° within a drone width.
+  const auto bent = digital_polyline(
+      {{100, 300}, {250, 300}, {250 + 150 * std::cos(0.698f), 300 - 150 * std::sin(0.698f)}});
+  const std::vector<float> r(bent.size(), 8.0f);
+  std::vector<float> bent_scratch(perch::window_scratch_floats(bent.size()));
+  out->clear();
+  const perch::branch_geometry limb{bent, r, 0, 0};
+  REQUIRE(perch::measure_windows(limb, perch::fixed_scale{2.0f}, 2.0f, bent_scratch, *out));
+  REQUIRE(out->size() > 10);
+  bool spans = false;
+  for (const auto& w : *out) {
+    const int x0 = bent[w.first].x, x1 = bent[w.last].x;
+    CHECK(w.slope_max_deg >= w.slope_deg - 1.0f);
+    CAPTURE(x0);
+    CAPTURE(x1);
+    if (x1 <= 250 - 8 - 45) {  // level, the bend more than a reach + radius ahead
+      CHECK(w.slope_max_deg < 3.0f);
+      CHECK(w.bend_deg < 4.0f);
+    }
+    if (x0 <= 215 && x1 >= 275) {  // across the bend, well into both legs
+      spans = true;
+      CHECK(w.slope_max_deg > 37.0f);
+      CHECK(w.slope_max_deg > w.slope_deg + 10.0f);
+      CHECK(w.bend_deg > 35.0f);
+    }
+  }
+  CHECK(spans);
+  // Against a horizon rolled to the rising leg, the level leg is the steep one.
+  out->clear();
+  perch::window_options rolled;
+  rolled.camera = perch::attitude{-40.0f};
+  REQUIRE(perch::measure_windows(limb, perch::fixed_scale{2.0f}, 2.0f, bent_scratch, *out, rolled));
+  CHECK((*out)[0].slope_max_deg > 37.0f);
+  CHECK(out->back().slope_max_deg < 3.0f);
 }

@@ -3,6 +3,13 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "perch/core/disc_index.hpp"
+#include "perch/core/image.hpp"
 
 using perch::errc;
 
@@ -89,4 +96,168 @@ TEST_CASE("constraints: parameters are validated with named statuses") {
   CHECK(!perch::free_circle{.radius_mm = -3.0f}.validate());
   CHECK(!perch::free_space_above{.width_mm = std::nanf("")}.validate());
   CHECK(!perch::clearance{.margin_mm = -1.0f}.validate());
+}
+
+TEST_CASE("constraints: resolved_diameter needs the diameter in range give or take a pixel") {
+  const perch::resolved_diameter r{30.0f, 110.0f, 1.0f};
+  CHECK(r.name == "resolution");
+  CHECK(r.unit == "px");
+  perch::window_measures m = window(0, 40.0f);
+  m.mm_per_px = 2.0f;  // 20 px: 15 px + 1 is enough
+  CHECK(r(m) == 0.0f);
+  m.claw_diameter_mm = 31.0f;  // 15.5 px: half a pixel short of 15 + 1
+  CHECK(r(m) == doctest::Approx(0.5f));
+  m.claw_diameter_mm = 32.0f;  // exactly 16 px
+  CHECK(r(m) == 0.0f);
+  m.claw_diameter_mm = 109.5f;  // 54.75 px + 1 is 0.75 px past 55
+  CHECK(r(m) == doctest::Approx(0.75f));
+  m.claw_diameter_mm = 108.0f;
+  CHECK(r(m) == 0.0f);
+  // In pixels at the window's scale: 31 mm at 0.5 mm/px is 62 px, 2 px clear of 60 + 1.
+  m.claw_diameter_mm = 31.0f;
+  m.mm_per_px = 0.5f;
+  CHECK(r(m) == 0.0f);
+  m.mm_per_px = 4.0f;  // 7.75 px against 7.5 + 1
+  CHECK(r(m) == doctest::Approx(0.75f));
+  // Out of the range itself: diameter_range's to report, not this one's.
+  m.mm_per_px = 2.0f;
+  for (const float d : {10.0f, 29.9f, 110.1f, 300.0f}) {
+    m.claw_diameter_mm = d;
+    CAPTURE(d);
+    CHECK(r(m) == 0.0f);
+    CHECK(perch::diameter_range{30.0f, 110.0f, 0.0f}(m) > 0.0f);
+  }
+  // No scale: not known to fit.
+  m.claw_diameter_mm = 50.0f;
+  m.mm_per_px = 0.0f;
+  CHECK(r(m) == 1.0f);
+  m.mm_per_px = std::nanf("");
+  CHECK(r(m) == 1.0f);
+  // The lower tercile, where measured, is the diameter the minimum is held against.
+  m.mm_per_px = 2.0f;
+  m.claw_diameter_mm = 40.0f;
+  m.diameter_low_mm = 31.0f;  // 15.5 px
+  CHECK(r(m) == doctest::Approx(0.5f));
+  m.diameter_low_mm = 60.0f;  // above the mean: the mean
+  CHECK(r(m) == 0.0f);
+  // Validation.
+  CHECK(r.validate());
+  CHECK(perch::resolved_diameter{110.0f, 30.0f, 1.0f}.validate().error().code ==
+        errc::range_inverted);
+  CHECK(perch::resolved_diameter{std::nanf(""), 110.0f, 1.0f}.validate().error().code ==
+        errc::invalid_parameter);
+  CHECK(perch::resolved_diameter{30.0f, 110.0f, -1.0f}.validate().error().code ==
+        errc::invalid_parameter);
+  CHECK(perch::resolved_diameter{30.0f, std::numeric_limits<float>::infinity(), 1.0f}
+            .validate()
+            .error()
+            .code == errc::invalid_parameter);
+}
+
+TEST_CASE("constraints: max_slope reads the steepest tangent, max_bend the bend") {
+  perch::window_measures m = window(10.0f, 50.0f);
+  m.slope_max_deg = 40.0f;  // level on average, steep at one end
+  CHECK(perch::max_slope{35.0f}(m) == doctest::Approx(5.0f));
+  m.slope_max_deg = 20.0f;
+  CHECK(perch::max_slope{35.0f}(m) == 0.0f);
+  m.slope_deg = 38.0f;  // the chord still counts
+  CHECK(perch::max_slope{35.0f}(m) == doctest::Approx(3.0f));
+
+  const perch::max_bend bend{20.0f};
+  CHECK(bend.name == "bend");
+  CHECK(bend.unit == "deg");
+  m.bend_deg = 20.0f;
+  CHECK(bend(m) == 0.0f);
+  m.bend_deg = 32.5f;
+  CHECK(bend(m) == doctest::Approx(12.5f));
+  CHECK(perch::max_bend{}(m) == doctest::Approx(12.5f));  // default 20°
+  CHECK(bend.validate());
+  CHECK(perch::max_bend{180.0f}.validate());
+  CHECK(perch::max_bend{-1.0f}.validate().error().code == errc::invalid_parameter);
+  CHECK(perch::max_bend{181.0f}.validate().error().code == errc::invalid_parameter);
+  CHECK(perch::max_bend{std::nanf("")}.validate().error().code == errc::invalid_parameter);
+}
+
+TEST_CASE("constraints: image_border and supported") {
+  const perch::image_border border{3.0f};
+  CHECK(border.name == "border");
+  CHECK(border.unit == "px");
+  perch::window_measures m = window(0, 50);
+  CHECK(border(m) == 0.0f);  // not measured: the largest float
+  m.border_px = 3.0f;
+  CHECK(border(m) == 0.0f);
+  m.border_px = 1.0f;
+  CHECK(border(m) == doctest::Approx(2.0f));
+  m.border_px = -4.5f;  // the outline runs out of the frame
+  CHECK(border(m) == doctest::Approx(7.5f));
+  m.border_px = 10.0f;
+  CHECK(border(m) == 0.0f);
+  CHECK(perch::image_border{}.margin_px == 3.0f);
+  CHECK(border.validate());
+  CHECK(perch::image_border{-1.0f}.validate().error().code == errc::invalid_parameter);
+  CHECK(perch::image_border{std::nanf("")}.validate().error().code == errc::invalid_parameter);
+
+  const perch::supported held{};
+  CHECK(held.name == "supported");
+  perch::window_measures w = window(0, 50);
+  CHECK(w.grounded);  // the default: grounded
+  CHECK(held(w) == 0.0f);
+  w.grounded = false;
+  CHECK(held(w) == 1.0f);
+  CHECK(held.validate());
+}
+
+TEST_CASE("constraints: clearance in mm from other limbs' surfaces over the window's points") {
+  // A limb along row 50 (x = 10 … 50, radius 5.5: 5 px to its outline) and another limb's disc
+  // of radius 10 at (30, 80): 20 px from the middle point, a gap of 15 px beyond its outline.
+  std::vector<perch::pixel> points;
+  for (int x = 10; x <= 50; ++x) points.push_back({x, 50});
+  const std::vector<float> radius(points.size(), 5.5f);
+  std::vector<float> gaps(points.size()), reach(points.size(), 0.0f);
+  const std::vector<perch::owned_disc> discs{{30.0f, 80.0f, 10.0f, 1}, {30.0f, 50.0f, 5.0f, 0}};
+  perch::workspace ws;
+  auto index = perch::disc_index::build(discs, 100, 100, ws);
+  REQUIRE(index);
+  const perch::limb_neighbourhood limb{points, radius, perch::owner_set{{0, -1, -1}}, gaps, reach};
+  const perch::limb_clearance around(*index, std::span<const perch::limb_neighbourhood>(&limb, 1));
+  const perch::image<std::uint8_t> empty(100, 100, 0);
+  const perch::tree_pixel_counter tree(empty.view());
+  perch::window_measures m = window(0, 50);
+  m.limb = 0;
+  m.first = 0;
+  m.last = 40;
+  m.mm_per_px = 2.0f;  // 15 px: 30 mm
+  const perch::window_context context(tree, m, {10, 50}, {50, 50}, 5.5f, {0, -1}, &around);
+  CHECK(context.limb_gap_mm(100.0f) == doctest::Approx(30.0f));
+  CHECK(perch::clearance{.margin_mm = 70.0f, .uncertainty_px = 0.0f}(m, context) ==
+        doctest::Approx(40.0f));
+  // The gap must clear the margin by the uncertainty (a pixel at the window's scale).
+  CHECK(perch::clearance{.margin_mm = 70.0f, .uncertainty_px = 1.0f}(m, context) ==
+        doctest::Approx(42.0f));
+  CHECK(perch::clearance{.margin_mm = 29.0f, .uncertainty_px = 1.0f}(m, context) ==
+        doctest::Approx(1.0f));
+  CHECK(perch::clearance{.margin_mm = 28.0f, .uncertainty_px = 1.0f}(m, context) == 0.0f);
+  CHECK(perch::clearance{.margin_mm = 20.0f, .uncertainty_px = 0.0f}(m, context) == 0.0f);
+  // Only the window's points: x = 10 … 20 is √(10² + 30²) − 10 − 5 = 16.6 px from it.
+  perch::window_measures left = m;
+  left.last = 10;
+  const perch::window_context side(tree, left, {10, 50}, {20, 50}, 5.5f, {0, -1}, &around);
+  CHECK(side.limb_gap_mm(100.0f) == doctest::Approx(2.0f * (std::sqrt(1000.0f) - 15.0f)));
+  CHECK(perch::clearance{.margin_mm = 70.0f, .uncertainty_px = 0.0f}(left, side) ==
+        doctest::Approx(70.0f - 2.0f * (std::sqrt(1000.0f) - 15.0f)));
+  // No surroundings given: clear.
+  const perch::window_context bare(tree, m, {10, 50}, {50, 50}, 5.5f, {0, -1});
+  CHECK(perch::clearance{}(m, bare) == 0.0f);
+  // Validation; the share-of-band rule is `clutter` now.
+  CHECK(perch::clearance{}.validate());
+  CHECK(perch::clearance{}.name == "clearance");
+  CHECK(perch::clearance{}.unit == "mm");
+  CHECK(perch::clearance{.margin_mm = std::nanf("")}.validate().error().code ==
+        errc::invalid_parameter);
+  CHECK(perch::clearance{.uncertainty_px = -1.0f}.validate().error().code ==
+        errc::invalid_parameter);
+  CHECK(perch::clutter{}.name == "clutter");
+  CHECK(perch::clutter{}.unit == "share");
+  CHECK(!perch::clutter{.margin_mm = -1.0f}.validate());
+  CHECK(perch::clutter{.margin_mm = 20.0f, .max_share = 0.0f}(m, bare) == 0.0f);  // nothing there
 }

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -401,11 +402,13 @@ TEST_CASE("detect: degenerate masks exit 0 with a valid document, sites inside t
 
 TEST_CASE("detect: downscaled sites of an odd-height mask stay inside the image") {
   // The tool's side of the fuzz finding: at --downscale 0.5 the last reduced row of a 5-row
-  // mask is centred at y = 4.5, and the perch was reported at y = 5.
+  // mask is centred at y = 4.5, and the perch was reported at y = 5. (The tendon claw keeps its
+  // limbs 3 px inside the frame since issue 24: the tensile tether has no such rule.)
   const fs::path dir = scratch("detect_odd_downscale");
   write_bytes(dir / "bar.png", mask_png(120, 5, [](std::uint32_t, std::uint32_t y) { return y == 4; }));
-  const run_result r = run_perch(
-      {"detect", (dir / "bar.png").string(), "--mm-per-px", "30", "--downscale", "0.5", "--no-timing"}, dir);
+  const run_result r = run_perch({"detect", (dir / "bar.png").string(), "--mm-per-px", "30", "--downscale", "0.5",
+                                  "--platform", "tensile-tether", "--no-timing"},
+                                 dir);
   REQUIRE_MESSAGE(r.exit_code == 0, r.err);
   const json_value doc = check_detect(r.out, 120, 5);
   REQUIRE(member(doc, "status").text == "ok");
@@ -664,4 +667,184 @@ TEST_CASE("synth and eval: truth files, the four outcomes, a success rate") {
   // The bare trunk (kind no-perch) has no feasible perch: a correct "no result".
   for (const json_value& row : member(doc, "results").items)
     if (member(row, "kind").text == "no-perch") CHECK(member(row, "outcome").text == "correctly_no_result");
+  // Families of the files: the generator's trees (arcs) and the hand-made shapes.
+  CHECK(member(member(member(doc, "families"), "arcs"), "trees").number == 6);
+  CHECK(member(member(member(doc, "families"), "shapes"), "trees").number == 3);
+  CHECK(member(doc, "causes").is_object());
+  // The truth files carry what the full truth needs.
+  const json_value truth = parse(read_file(trees / "synth-40.truth.json"));
+  for (const json_value& limb : member(truth, "limbs").items) {
+    CHECK(member(limb, "tree").is_number());
+    CHECK(member(limb, "exact_arc").kind == json_value::type::boolean);
+  }
+}
+
+namespace {
+
+/// The unit each constraint of the built-in platforms reports its misses in.
+const std::vector<std::pair<std::string, std::string>> constraint_units = {
+    {"supported", ""},       {"border", "px"},          {"diameter", "mm"},         {"resolution", "px"},
+    {"max_slope", "deg"},    {"min_slope", "deg"},      {"bend", "deg"},            {"max_curvature", "1/mm"},
+    {"monotonic", "mm"},     {"bending_stress", "MPa"}, {"clearance", "mm"},        {"clutter", "share"},
+    {"free_space_above", "share"}, {"free_circle", "share"}};
+
+/// The colour `perch detect --annotate` outlines the chosen window's clearance envelope in
+/// (annotate.hpp's envelope_rgb).
+constexpr std::uint8_t envelope_rgb[3] = {255, 110, 255};
+
+}  // namespace
+
+TEST_CASE("detect: the tendon claw's constraints by name, near misses with their units") {
+  const fs::path dir = scratch("detect_constraints");
+  std::vector<std::string> seen;
+  for (const char* name : {"synth-1.png", "synth-2.png", "synth-3.png", "synth-4.png", "synth-5.png", "synth-6.png"}) {
+    const run_result r = run_perch({"detect", (data / name).string(), "--no-timing"}, dir);
+    REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+    const json_value doc = parse(r.out);
+    // Every constraint of the platform is counted in "rejected", the physical ones included.
+    const json_value& rejected = member(doc, "rejected");
+    for (const char* key : {"supported", "border", "diameter", "resolution", "max_slope", "bend", "max_curvature",
+                            "monotonic", "bending_stress", "clearance"})
+      CHECK_MESSAGE(member(rejected, key).is_number(), name << ": rejected." << key);
+    CHECK(rejected.members.size() == 10);
+    for (const json_value& m : member(doc, "near_misses").items) {
+      const std::string constraint = member(m, "constraint").text;
+      const auto known = std::find_if(constraint_units.begin(), constraint_units.end(),
+                                      [&](const auto& c) { return c.first == constraint; });
+      REQUIRE_MESSAGE(known != constraint_units.end(), name << ": near miss of unknown constraint " << constraint);
+      CHECK_MESSAGE(member(m, "unit").text == known->second, name << ": " << constraint);
+      CHECK(member(m, "miss").number > 0);
+      CHECK(rejected.find(constraint.c_str()) != nullptr);
+      seen.push_back(constraint);
+    }
+    if (member(doc, "perch").is_object()) {
+      const json_value& best = member(doc, "perch");
+      CHECK(member(best, "slope_max_deg").number <= 35);
+      CHECK(member(best, "slope_max_deg").number >= member(best, "slope_deg").number - 1e-3);
+      CHECK(member(best, "bend_deg").number <= 20);
+    }
+  }
+  // The sample trees have near misses on the new, physical constraints.
+  const auto has = [&](const char* c) { return std::find(seen.begin(), seen.end(), c) != seen.end(); };
+  CHECK((has("clearance") || has("bend") || has("border") || has("resolution") || has("supported")));
+}
+
+TEST_CASE("detect --annotate: the chosen window's clearance envelope is drawn around it") {
+  const fs::path dir = scratch("detect_envelope");
+  const fs::path picture = dir / "limb.png";
+  const fs::path json = dir / "limb.json";
+  const run_result r = run_perch({"detect", (data / "shape-limb.png").string(), "--annotate", picture.string(),
+                                  "--json", json.string(), "--no-timing"},
+                                 dir);
+  REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+  const json_value doc = parse(read_file(json));
+  REQUIRE(member(doc, "status").text == "ok");
+  const json_value& best = member(doc, "perch");
+  const double x = member(best, "x").number, y = member(best, "y").number;
+  const double mm_per_px = member(doc, "mm_per_px").number;
+  REQUIRE(mm_per_px > 0);
+  // The envelope lies within half a window (90 mm) along the limb and r + 70 mm (+ 1 px) across.
+  const double reach = (90.0 + 0.5 * member(best, "diameter_mm").number + 70.0) / mm_per_px + 8.0;
+  const double across = (0.5 * member(best, "diameter_mm").number + 70.0) / mm_per_px;
+  const perch::png::decoded_png png = decode(picture);
+  REQUIRE(png.channels == 3);
+  const auto rgb = perch::png::to_rgb8(png);
+  int near = 0, far = 0, inside_limb = 0;
+  for (int v = 0; v < rgb.height(); ++v)
+    for (int u = 0; u < rgb.width(); ++u) {
+      const perch::png::rgb8 p = rgb(u, v);
+      if (p.r != envelope_rgb[0] || p.g != envelope_rgb[1] || p.b != envelope_rgb[2]) continue;
+      const double d = std::hypot(u - x, v - y);
+      if (d <= reach) ++near; else ++far;
+      // The outline runs at r + 70 mm from the centreline: none of it on the limb at the site.
+      if (d < 0.5 * across) ++inside_limb;
+    }
+  MESSAGE("envelope pixels near the site " << near << ", elsewhere " << far);
+  CHECK(near >= 40);
+  CHECK(inside_limb == 0);
+  // Elsewhere only the legend's marker has the colour.
+  CHECK(far < near);
+}
+
+TEST_CASE("eval --population: the four outcomes per family, per rule broken and per knob") {
+  const fs::path dir = scratch("eval_population");
+  const fs::path out = dir / "eval.json";
+  const run_result r = run_perch({"eval", "--population", "arcs:3,colonisation:3", "--json", out.string(), "--quiet"},
+                                 dir);
+  REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+  CHECK(r.out.find("success rate") != std::string::npos);
+  CHECK(r.out.find("colonisation") != std::string::npos);
+  const json_value doc = parse(read_file(out));
+  CHECK(member(doc, "trees").number == 6);
+  CHECK(member(doc, "scale").text == "known");
+  const auto sum = [](const json_value& outcomes) {
+    double total = 0;
+    for (const char* key : {"correct_location", "incorrect_location", "no_result_though_one_existed",
+                            "correctly_no_result", "error"})
+      total += member(outcomes, key).number;
+    return total;
+  };
+  const json_value& outcomes = member(doc, "outcomes");
+  CHECK(sum(outcomes) == 6);
+  CHECK(member(outcomes, "error").number == 0);
+  CHECK(member(doc, "with_perch").number + member(doc, "without_perch").number == 6);
+  CHECK(member(doc, "with_perch").number >= member(outcomes, "correct_location").number);
+  const double rate = member(doc, "success_rate").number;
+  CHECK(rate >= 0.0);
+  CHECK(rate <= 1.0);
+  if (member(doc, "with_perch").number > 0)
+    CHECK(rate == doctest::Approx(member(outcomes, "correct_location").number / member(doc, "with_perch").number));
+  CHECK(member(doc, "false_perches").number <= member(doc, "without_perch").number);
+  // Per family: 3 trees each, their outcomes adding up.
+  const json_value& families = member(doc, "families");
+  for (const char* family : {"arcs", "colonisation"}) {
+    const json_value& f = member(families, family);
+    CHECK(member(f, "trees").number == 3);
+    CHECK(sum(member(f, "outcomes")) == 3);
+  }
+  // Per cause: every rule of the truth by name; their counts are the incorrect locations.
+  double causes = 0;
+  for (const char* key : {"clearance", "slope", "bend", "diameter", "resolution", "outside_image", "unsupported",
+                          "off_limb", "twig", "bending", "off_axis", "no_limb"}) {
+    const json_value& c = member(member(doc, "causes"), key);
+    causes += member(c, "count").number;
+    CHECK(member(c, "trees").items.size() == member(c, "count").number);
+  }
+  CHECK(causes == member(outcomes, "incorrect_location").number);
+  // Per knob: arcs member 0 is built without a perch ("none"), colonisation 0..2 are decurrent,
+  // excurrent and columnar.
+  const json_value& knobs = member(doc, "knobs");
+  for (const char* knob : {"none", "decurrent", "excurrent", "columnar"}) CHECK(member(member(knobs, knob), "trees").number == 1);
+  for (const auto& [knob, t] : knobs.members) CHECK(sum(member(t, "outcomes")) == member(t, "trees").number);
+  CHECK(member(member(doc, "built_without_perch"), "given_a_perch").number == 0);
+  CHECK(member(member(doc, "knife_edge"), "trees").is_number());
+  // Rows: every tree, with a family and an outcome.
+  REQUIRE(member(doc, "results").items.size() == 6);
+  for (const json_value& row : member(doc, "results").items) {
+    CHECK(member(row, "outcome").is_string());
+    if (member(row, "outcome").text == "incorrect_location") CHECK(member(row, "cause").is_string());
+  }
+  // The same trees, the same scores (in memory, deterministic across jobs).
+  const fs::path again = dir / "again.json";
+  const run_result r2 = run_perch({"eval", "--population", "arcs:0-2,colonisation:0-2", "--jobs", "1", "--json",
+                                   again.string(), "--quiet"},
+                                  dir);
+  REQUIRE_MESSAGE(r2.exit_code == 0, r2.err);
+  CHECK(read_file(again) == read_file(out));
+}
+
+TEST_CASE("eval: bad population specs exit 2") {
+  const fs::path dir = scratch("eval_bad_population");
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{"eval", "--population", "oaks:3"},
+                                             {"eval", "--population", "arcs:x"},
+                                             {"eval", "--population", "arcs:5-2"},
+                                             {"eval", "--population", "3", data.string()},
+                                             {"eval", "--population", "3", "--rows", "some"},
+                                             {"eval", "--population", "3", "--platform", "treecreeper"},
+                                             {"eval"}}) {
+    const run_result r = run_perch(args, dir);
+    CHECK_MESSAGE(r.exit_code == 2, args.back());
+    CHECK(!r.err.empty());
+  }
 }

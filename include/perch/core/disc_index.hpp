@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 
 #include "perch/core/geometry.hpp"
@@ -98,15 +99,22 @@ class disc_index {
     const int r0 = clamp_cell(std::floor((p.y() - reach) / cell), rows_);
     const int r1 = clamp_cell(std::floor((p.y() + reach) / cell), rows_);
     float best = cap;
+    // A cell's extent for the skip test; the border cells reach on beyond the frame, where the
+    // discs clamped into them lie.
+    auto gap_to_cell = [cell](int i, int count, float v) {
+      const float lo = i == 0 ? -std::numeric_limits<float>::infinity()
+                              : static_cast<float>(i) * cell;
+      const float hi = i == count - 1 ? std::numeric_limits<float>::infinity()
+                                      : static_cast<float>(i + 1) * cell;
+      return std::max({lo - v, v - hi, 0.0f});
+    };
     for (int r = r0; r <= r1; ++r) {
-      const float y0 = static_cast<float>(r) * cell;
-      const float dy = std::max({y0 - p.y(), p.y() - (y0 + cell), 0.0f});
+      const float dy = gap_to_cell(r, rows_, p.y());
       for (int c = c0; c <= c1; ++c) {
         const std::size_t k = static_cast<std::size_t>(r) * static_cast<std::size_t>(columns_) +
                               static_cast<std::size_t>(c);
         if (start_[k] == start_[k + 1]) continue;
-        const float x0 = static_cast<float>(c) * cell;
-        const float dx = std::max({x0 - p.x(), p.x() - (x0 + cell), 0.0f});
+        const float dx = gap_to_cell(c, columns_, p.x());
         if (std::sqrt(dx * dx + dy * dy) - largest_[k] >= best) continue;
         for (std::uint32_t i = start_[k]; i < start_[k + 1]; ++i) {
           const owned_disc& d = discs_[i];
@@ -115,6 +123,43 @@ class disc_index {
           const float ey = d.y - p.y();
           const float gap = std::sqrt(ex * ex + ey * ey) - d.radius;
           best = std::min(best, gap);
+        }
+      }
+    }
+    return best;
+  }
+
+  /// The disc whose centre is nearest to `p` (of those within `max_distance` of it), or null.
+  /// Complexity: the discs of the cells within that distance.
+  [[nodiscard]] const owned_disc* nearest_centre(point2f p, float max_distance) const noexcept {
+    return nearest_centre_if(p, max_distance, [](const owned_disc&) { return true; });
+  }
+
+  /// As `nearest_centre`, among the discs `accept(disc)` is true for (asked only of discs
+  /// nearer than the best so far).
+  template <class Accept>
+  [[nodiscard]] const owned_disc* nearest_centre_if(point2f p, float max_distance,
+                                                    Accept&& accept) const noexcept {
+    if (discs_.empty()) return nullptr;
+    const auto cell = static_cast<float>(cell_);
+    const int c0 = clamp_cell(std::floor((p.x() - max_distance) / cell), columns_);
+    const int c1 = clamp_cell(std::floor((p.x() + max_distance) / cell), columns_);
+    const int r0 = clamp_cell(std::floor((p.y() - max_distance) / cell), rows_);
+    const int r1 = clamp_cell(std::floor((p.y() + max_distance) / cell), rows_);
+    const owned_disc* best = nullptr;
+    float best2 = max_distance * max_distance;
+    for (int r = r0; r <= r1; ++r) {
+      for (int c = c0; c <= c1; ++c) {
+        const std::size_t k = static_cast<std::size_t>(r) * static_cast<std::size_t>(columns_) +
+                              static_cast<std::size_t>(c);
+        for (std::uint32_t i = start_[k]; i < start_[k + 1]; ++i) {
+          const float ex = discs_[i].x - p.x();
+          const float ey = discs_[i].y - p.y();
+          const float d2 = ex * ex + ey * ey;
+          if (d2 <= best2 && accept(discs_[i])) {
+            best2 = d2;
+            best = &discs_[i];
+          }
         }
       }
     }

@@ -19,8 +19,11 @@
 
 #include "perch/core/disc_index.hpp"
 #include "perch/core/geometry.hpp"
+#include "perch/core/image_view.hpp"
+#include "perch/core/row_runs.hpp"
 #include "perch/core/result.hpp"
 #include "perch/core/workspace.hpp"
+#include "perch/graph/detail/scan.hpp"
 #include "perch/graph/junctions.hpp"
 #include "perch/graph/limbs.hpp"
 #include "perch/graph/skeleton_graph.hpp"
@@ -30,11 +33,14 @@ namespace perch {
 /// Which limbs count as obstacles (lengths in mm at the frame's scale).
 struct obstacle_options {
   /// Limbs thinner than this are compliant twigs: a claw closes through them and a drone's
-  /// rotors brush them aside. Only discs at least this thick are obstacles.
+  /// rotors brush them aside. Only discs at least this thick are obstacles...
   float twig_max_mm = 20.0f;
+  /// ... give or take this many pixels: a limb is a twig only when it is known to be one, its
+  /// width read off the mask (good to about a pixel) below `twig_max_mm` by this much.
+  float uncertainty_px = 1.0f;
 
   [[nodiscard]] status validate() const noexcept {
-    if (!(twig_max_mm >= 0 && twig_max_mm < 1e6f))
+    if (!(twig_max_mm >= 0 && twig_max_mm < 1e6f) || !(uncertainty_px >= 0 && uncertainty_px < 1e6f))
       return fail(errc::invalid_parameter, "obstacle_options");
     return {};
   }
@@ -46,13 +52,14 @@ struct limb_obstacles {
   std::span<const owner_set> own{};  ///< per limb: itself and the limbs continuing it
 };
 
-/// Bytes of workspace `find_limb_obstacles` takes.
+/// Bytes of workspace `find_limb_obstacles` takes at most (a disc per skeleton pixel, and one
+/// at each end of a limb for the limbs leaving it there, in two indexes).
 [[nodiscard]] inline std::size_t limb_obstacles_workspace_bytes(std::size_t limbs,
-                                                                std::size_t limb_points,
+                                                                std::size_t skeleton_pixels,
                                                                 int width, int height) noexcept {
-  return workspace::footprint<owner_set>(limbs) +
-         workspace::footprint<owned_disc>(limb_points) +
-         disc_index::workspace_bytes(limb_points, width, height);
+  const std::size_t discs = skeleton_pixels + 2 * limbs;
+  return workspace::footprint<owner_set>(limbs) + 2 * workspace::footprint<owned_disc>(discs) +
+         2 * disc_index::workspace_bytes(discs, width, height);
 }
 
 /// The owner of a disc that belongs to no limb: an obstacle to every limb.
@@ -96,15 +103,18 @@ struct junction_caps {
 }
 
 /// The disc that stands for the limbs leaving limb `limb` at the junction at its end `end`
-/// (`front`: its first point's): a disc as wide as the widest of them, at the base farthest
-/// from the node among theirs (`limb_at_junction`: where a limb's axis, extended back, meets
-/// this limb's centreline). The skeleton splits a narrow fork only where the limbs' surfaces
-/// part, beyond the true fork, so a child's own discs begin too far along; a child that carries
-/// on straight is still another limb, from the fork on. Limbs wider than this one there are the
+/// (`front`: its first point's): as wide as the widest of them where it leaves the node, at
+/// the base farthest from the node among theirs (`limb_at_junction`: where a limb's axis,
+/// extended back, meets this limb's centreline), or at `stretch_end`, where the limb's stretch
+/// ends (`limb_stretch`: clear of the junction's bodies), for a limb without a straight axis
+/// there. The skeleton splits a narrow fork only where the limbs' surfaces part, beyond the
+/// true fork, so a child's own discs begin too far along; a child that carries on straight is
+/// still another limb, from the fork on. Limbs wider than this one there (`own_radius`) are the
 /// parent it leaves, whose own discs stand for it. Radius 0: no such limb.
 [[nodiscard]] inline owned_disc junction_disc(const skeleton_graph& graph,
                                               const skeleton_limb& limb, std::size_t end,
-                                              bool front, float own_radius) noexcept {
+                                              bool front, pixel stretch_end,
+                                              float own_radius) noexcept {
   owned_disc out{0, 0, 0, unowned_disc};
   const node_id id = node_at_end(graph, end);
   const skeleton_node node = graph.node(id);
@@ -116,41 +126,76 @@ struct junction_caps {
   float farthest = -1;
   for (const incidence in : graph.topology().incidences(id)) {
     if (in.edge == edge_of_end(end)) continue;
-    const junction_limb other =
-        limb_at_junction(graph.branch(in.edge), in.direction, node, own_at, n, reach);
-    if (!other.valid || other.radius_px > own_radius) continue;
-    out.radius = std::max(out.radius, other.radius_px);
-    const float from_node = (other.base - centre).norm();
-    if (from_node > farthest) {
-      farthest = from_node;
-      out.x = other.base.x();
-      out.y = other.base.y();
+    const skeleton_branch other = graph.branch(in.edge);
+    const float r = leaving_axis_of(other, in.direction, node).radius_near_px;
+    if (!(r > 0) || r > own_radius) continue;
+    const junction_limb child = limb_at_junction(other, in.direction, node, own_at, n, reach);
+    const point2f base = child.valid ? child.base : to_point(stretch_end);
+    out.radius = std::max(out.radius, r);
+    if ((base - centre).norm() > farthest) {
+      farthest = (base - centre).norm();
+      out.x = base.x();
+      out.y = base.y();
     }
   }
   return out;
 }
 
+/// Whether every pixel on the straight line from `a` to `b` (sampled every half pixel, nearest
+/// pixel) is tree in `mask`.
+[[nodiscard]] inline bool tree_between(image_view<const std::uint8_t> mask, point2f a,
+                                       point2f b) noexcept {
+  const float length = (b - a).norm();
+  const int steps = static_cast<int>(std::ceil(2.0f * length));
+  for (int k = 0; k <= steps; ++k) {
+    const point2f q = steps > 0 ? point2f(a + (b - a) * (static_cast<float>(k) / static_cast<float>(steps))) : a;
+    const int x = static_cast<int>(std::lround(q.x()));
+    const int y = static_cast<int>(std::lround(q.y()));
+    if (x < 0 || y < 0 || x >= mask.width() || y >= mask.height() || mask(x, y) == 0) return false;
+  }
+  return true;
+}
+
 }  // namespace detail
 
 /// The obstacle discs of every limb and the owner sets of `limbs` (from `trace_limbs` with the
-/// continuations `next`; `stretches` from `limb_stretch`), and at each end of a limb at a
-/// junction a disc for the limbs leaving it there (`detail::junction_disc`), for a frame of `width` × `height` (the limbs' coordinates) at
-/// `mm_per_px`. A disc's radius is the distance-map radius less ½ px (the map measures to the
-/// nearest background pixel centre, half a pixel beyond the outline).
-/// Errors: `workspace_too_small` for a borrowed workspace. Complexity: O(limb points + cells).
+/// continuations `next`; `stretches` from `limb_stretch`), for a frame of `width` × `height`
+/// (the limbs' coordinates) at `mm_per_px`:
+///  - a disc per limb point, of its distance-map radius less ½ px (the map measures to the
+///    nearest background pixel centre, half a pixel beyond the outline), capped beside the
+///    junctions at its ends (`detail::caps_of`);
+///  - a disc per other pixel of `skeleton` (`dist2` its squared distances): the spurs pruning
+///    took off (a bump of the outline, the stub of a limb hugging its parent), owned by the
+///    nearest limb point it sees through the tree (the straight line between them on `mask`'s
+///    tree pixels: a spur belongs to the body it grows from, not to a limb across a gap), and
+///    no wider than that point's disc. The mask keeps what pruning drops from the graph, and a
+///    claw meets the mask;
+///  - at each end of a limb at a junction, a disc for the limbs leaving it there
+///    (`detail::junction_disc`).
+/// Discs thinner than a twig (`obstacle_options`) are left out.
+/// Errors: `workspace_too_small` for a borrowed workspace.
+/// Complexity: O(skeleton pixels + cells).
 [[nodiscard]] inline result<limb_obstacles> find_limb_obstacles(
     const skeleton_graph& graph, std::span<const skeleton_limb> limbs,
-    std::span<const std::int32_t> next, std::span<const branch_stretch> stretches, int width,
-    int height, float mm_per_px, workspace& ws, const obstacle_options& options = {}) noexcept {
+    std::span<const std::int32_t> next, std::span<const branch_stretch> stretches,
+    image_view<const std::uint8_t> mask, image_view<const std::uint8_t> skeleton,
+    image_view<const std::uint32_t> dist2, const row_runs* runs, float mm_per_px, workspace& ws,
+    const obstacle_options& options = {}) noexcept {
   PERCH_ASSERT(stretches.size() == limbs.size(), "find_limb_obstacles: stretches");
-  std::size_t total = 2 * limbs.size();
-  for (const skeleton_limb& l : limbs) total += l.points.size();
+  const int width = skeleton.width();
+  const int height = skeleton.height();
+  std::size_t points = 0;
+  for (const skeleton_limb& l : limbs) points += l.points.size();
+  const std::size_t total = std::max(points, detail::count_set_pixels(skeleton, runs)) + 2 * limbs.size();
   auto own = ws.allocate<owner_set>(limbs.size());
+  auto limb_discs = ws.allocate<owned_disc>(points);
   auto discs = ws.allocate<owned_disc>(total);
   if (!own) return unexpected{own.error()};
+  if (!limb_discs) return unexpected{limb_discs.error()};
   if (!discs) return unexpected{discs.error()};
-  const float min_radius_px = 0.5f * options.twig_max_mm / mm_per_px + 0.5f;
-  std::size_t count = 0;
+  // A disc of distance-map radius r stands for a width of about 2·r − 1 px.
+  const float min_radius_px = 0.5f * (options.twig_max_mm / mm_per_px - options.uncertainty_px) + 0.5f;
+  std::size_t count = 0, listed = 0;
   for (std::size_t l = 0; l < limbs.size(); ++l) {
     const skeleton_limb& limb = limbs[l];
     const bool closed = next[limb.first_end] >= 0;
@@ -161,21 +206,38 @@ struct junction_caps {
       float r = limb.radius_px[i];
       if ((p - caps.front_node).squaredNorm() <= caps.front_reach2) r = std::min(r, caps.front_radius);
       if ((p - caps.back_node).squaredNorm() <= caps.back_reach2) r = std::min(r, caps.back_radius);
-      if (r < min_radius_px) continue;  // a twig's, or a thin limb's: compliant
-      (*discs)[count++] = {p.x(), p.y(), r - 0.5f, static_cast<std::int32_t>(l)};
+      (*limb_discs)[listed++] = {p.x(), p.y(), r, static_cast<std::int32_t>(l)};
+      if (r >= min_radius_px) (*discs)[count++] = {p.x(), p.y(), r - 0.5f, static_cast<std::int32_t>(l)};
     }
     // The limbs leaving it at the junctions at its ends, from the fork on.
     const branch_stretch s = stretches[l];
     if (closed || s.count == 0) continue;
     for (const bool front : {true, false}) {
-      const float own_radius = limb.radius_px[front ? s.first : s.first + s.count - 1];
+      const std::size_t i = front ? s.first : s.first + s.count - 1;
       owned_disc d = detail::junction_disc(graph, limb, front ? limb.first_end : limb.last_end,
-                                           front, own_radius);
+                                           front, limb.points[i], limb.radius_px[i]);
       if (d.radius < min_radius_px) continue;
       d.radius -= 0.5f;
       (*discs)[count++] = d;
     }
   }
+  // The skeleton's other pixels, owned by the nearest limb point.
+  auto by_limb = disc_index::build(std::span<const owned_disc>(*limb_discs).first(listed), width, height, ws);
+  if (!by_limb) return unexpected{by_limb.error()};
+  const auto frame = static_cast<float>(std::max(width, height));
+  detail::for_each_skeleton_pixel(skeleton, runs, [&](int x, int y) {
+    const point2f p(static_cast<float>(x), static_cast<float>(y));
+    auto seen_through_tree = [&](const owned_disc& d) {
+      return detail::tree_between(mask, p, point2f(d.x, d.y));
+    };
+    // Pruned pixels lie next to their limb: look near first, then farther.
+    const owned_disc* nearest = nullptr;
+    for (float reach = 8.0f; nearest == nullptr && reach < 2.0f * frame; reach *= 4.0f)
+      nearest = by_limb->nearest_centre_if(p, reach, seen_through_tree);
+    if (nearest == nullptr || (nearest->x == p.x() && nearest->y == p.y()) || count >= total) return;
+    const float r = std::min(std::sqrt(static_cast<float>(dist2(x, y))), nearest->radius);
+    if (r >= min_radius_px) (*discs)[count++] = {p.x(), p.y(), r - 0.5f, nearest->owner};
+  });
   auto index = disc_index::build(std::span<const owned_disc>(*discs).first(count), width, height, ws);
   if (!index) return unexpected{index.error()};
   return limb_obstacles{*index, *own};

@@ -10,9 +10,9 @@
 #include "perch/core/bounded_vector.hpp"
 #include "perch/core/image_view.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/union_find.hpp"
 #include "perch/core/workspace.hpp"
 #include "perch/label/connectivity.hpp"
-#include "perch/label/detail/equivalence.hpp"
 #include "perch/label/detail/scan.hpp"
 
 namespace perch {
@@ -44,7 +44,7 @@ namespace detail {
 
 template <polarity P, BinaryView Mask, MutableImageView Labels>
 [[nodiscard]] inline std::int32_t label_first_pass_any(const Mask& mask, const Labels& labels,
-                                                       label_equivalence& eq,
+                                                       union_find& eq,
                                                        connectivity conn) noexcept {
   if (conn == connectivity::eight)
     label_first_pass<P, connectivity::eight>(mask, labels, eq);
@@ -55,7 +55,7 @@ template <polarity P, BinaryView Mask, MutableImageView Labels>
 
 /// Checks the views and takes the equivalence array from `ws`.
 template <BinaryView Mask, MutableImageView Labels>
-[[nodiscard]] inline result<label_equivalence> prepare_labelling(const Mask& mask,
+[[nodiscard]] inline result<union_find> prepare_labelling(const Mask& mask,
                                                                  const Labels& labels,
                                                                  workspace& ws,
                                                                  connectivity conn) noexcept {
@@ -67,7 +67,7 @@ template <BinaryView Mask, MutableImageView Labels>
   const std::size_t bound = provisional_label_bound(mask.width(), mask.height(), conn);
   auto parent = ws.allocate<std::int32_t>(bound + 1);
   if (!parent) return unexpected{parent.error()};
-  return label_equivalence{parent->data(), 0, static_cast<std::int32_t>(bound)};
+  return union_find{parent->data(), 0, static_cast<std::int32_t>(bound)};
 }
 
 }  // namespace detail

@@ -8,10 +8,10 @@
 
 #include "perch/core/image_view.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/union_find.hpp"
 #include "perch/core/workspace.hpp"
 #include "perch/label/components.hpp"
 #include "perch/label/connectivity.hpp"
-#include "perch/label/detail/equivalence.hpp"
 #include "perch/label/detail/scan.hpp"
 
 namespace perch {
@@ -70,12 +70,12 @@ template <BinaryView Mask>
   const image_view<std::int32_t> labels(label_pixels->data(), width, height);
 
   // Foreground, 8-connected: the number of sets is all that is needed (no second pass).
-  detail::label_equivalence fg{parent->data(), 0, static_cast<std::int32_t>(bound)};
+  detail::union_find fg{parent->data(), 0, static_cast<std::int32_t>(bound)};
   detail::label_first_pass<detail::polarity::foreground, connectivity::eight>(mask, labels, fg);
   const std::int32_t components = fg.flatten();
 
   // Background, 4-connected; sets reaching the border are outside, the rest are holes.
-  detail::label_equivalence bg{parent->data(), 0, static_cast<std::int32_t>(bound)};
+  detail::union_find bg{parent->data(), 0, static_cast<std::int32_t>(bound)};
   detail::label_first_pass<detail::polarity::background, connectivity::four>(mask, labels, bg);
   const std::int32_t regions = bg.flatten();
   std::int32_t touching = 0;

@@ -15,7 +15,10 @@ namespace perch {
 ///  - its piece of mask is grounded (`supported`) and its outline is 3 px inside the frame
 ///    (`image_border`);
 ///  - the claw-region diameter is within 30–110 mm (`diameter_range`), and still is give or
-///    take a pixel (`resolved_diameter`);
+///    take 1.5 px (`resolved_diameter`: a pixel of outline uncertainty, and half a pixel for
+///    the cross-section's own measuring error, rms 0.4–0.6 px; eq. 3 seeks the smallest
+///    graspable diameter, so without the half pixel it picks windows whose width is known only
+///    to within the measuring error of the limit);
 ///  - the limb's tangent is at most 35° from horizontal (`max_slope`), it turns by at most 20°
 ///    over a drone width around any point (`max_bend`), gently curved and monotonic;
 ///  - it holds the drone (paper eq. 4, `bending_stress`);
@@ -28,7 +31,7 @@ struct tendon_claw {
   all_of<supported, image_border, diameter_range, resolved_diameter, max_slope, max_bend,
          max_curvature, monotonic, bending_stress, clearance>
       constraints{supported{},       image_border{3.0f},
-                  diameter_range{30.0f, 110.0f, 0.0f}, resolved_diameter{30.0f, 110.0f, 1.0f},
+                  diameter_range{30.0f, 110.0f, 0.0f}, resolved_diameter{30.0f, 110.0f, 1.5f},
                   max_slope{35.0f},  max_bend{20.0f},
                   max_curvature{},   monotonic{},
                   bending_stress{1.5f}, clearance{70.0f}};

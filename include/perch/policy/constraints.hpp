@@ -76,7 +76,11 @@ struct resolved_diameter {
     if (!(m.mm_per_px > 0)) return 1.0f;
     if (m.claw_diameter_mm < min_mm || m.claw_diameter_mm > max_mm) return 0.0f;
     const float d_px = m.claw_diameter_mm / m.mm_per_px;
-    return std::max({min_mm / m.mm_per_px + uncertainty_px - d_px,
+    // Against the smallest diameter, the lower tercile where it was measured: an outline's
+    // bumps and spurs only widen a limb, so the mean reads rough thin limbs high.
+    const float low_px =
+        m.diameter_low_mm > 0 ? std::min(d_px, m.diameter_low_mm / m.mm_per_px) : d_px;
+    return std::max({min_mm / m.mm_per_px + uncertainty_px - low_px,
                      d_px + uncertainty_px - max_mm / m.mm_per_px, 0.0f});
   }
   [[nodiscard]] status validate() const noexcept {
@@ -201,17 +205,22 @@ struct monotonic {
 /// thicker than a twig, beyond its own surface (`window_context::limb_gap_mm`): the claw reaches
 /// that far around the limb as it closes, so a side limb, the parent at a fork, a limb crossing
 /// in front or behind, or a second tree there would be in its way. Twigs (`obstacle_options`)
-/// are compliant and do not count.
+/// are compliant and do not count. Like a diameter, a gap read off a mask is good to about a
+/// pixel (each outline to half of one), so the gap must reach the margin plus
+/// `uncertainty_px` image pixels at the window's scale to be known clear.
 struct clearance {
   static constexpr std::string_view name = "clearance";
   static constexpr std::string_view unit = "mm";
   float margin_mm = 70.0f;
-  [[nodiscard]] float operator()(const window_measures&,
+  float uncertainty_px = 1.0f;
+  [[nodiscard]] float operator()(const window_measures& m,
                                  const window_context& context) const noexcept {
-    return std::max(margin_mm - context.limb_gap_mm(margin_mm), 0.0f);
+    const float needed = margin_mm + uncertainty_px * m.mm_per_px;
+    return std::max(needed - context.limb_gap_mm(needed), 0.0f);
   }
   [[nodiscard]] status validate() const noexcept {
-    if (!detail::finite_non_negative(margin_mm)) return fail(errc::invalid_parameter, "clearance");
+    if (!detail::finite_non_negative(margin_mm) || !detail::finite_non_negative(uncertainty_px))
+      return fail(errc::invalid_parameter, "clearance");
     return {};
   }
 };

@@ -1,22 +1,28 @@
 /// \file
-/// Workspace size for any of perch's skeletonisers.
+/// Workspace size for one or several skeletonisers, perch's own by default.
 #pragma once
 
 #include <cstddef>
 
 #include "perch/skeleton/medial_axis.hpp"
+#include "perch/skeleton/skeletoniser.hpp"
 #include "perch/skeleton/thinning.hpp"
 
 namespace perch {
 
-/// Bytes of workspace any of perch's skeletonisers (`medial_axis`, `zhang_suen`, `guo_hall`)
-/// takes at most on a `width` × `height` mask: the largest of their `workspace_bytes`.
+/// Bytes of workspace the skeletonisers `S...` take at most on a `width` × `height` mask: the
+/// largest of their `workspace_bytes`. Without any `S`, of perch's own (`medial_axis`,
+/// `zhang_suen`, `guo_hall`), for a caller that lets its user choose among them.
+template <Skeletoniser... S>
 [[nodiscard]] constexpr std::size_t skeleton_workspace_bytes(int width, int height) noexcept {
-  const std::size_t a = medial_axis::workspace_bytes(width, height);
-  const std::size_t b = zhang_suen::workspace_bytes(width, height);
-  const std::size_t c = guo_hall::workspace_bytes(width, height);
-  const std::size_t ab = a > b ? a : b;
-  return ab > c ? ab : c;
+  if constexpr (sizeof...(S) == 0) {
+    return skeleton_workspace_bytes<medial_axis, zhang_suen, guo_hall>(width, height);
+  } else {
+    const std::size_t bytes[] = {S::workspace_bytes(width, height)...};
+    std::size_t most = 0;
+    for (const std::size_t b : bytes) most = b > most ? b : most;
+    return most;
+  }
 }
 
 }  // namespace perch

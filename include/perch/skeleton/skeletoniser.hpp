@@ -40,10 +40,4 @@ concept Skeletoniser = requires(const S& s, image_view<const std::uint8_t> mask,
   { S::workspace_bytes(extent, extent) } noexcept -> std::same_as<std::size_t>;
 };
 
-/// Bytes of workspace skeletoniser `S` takes at most on a `width` × `height` mask.
-template <Skeletoniser S>
-[[nodiscard]] constexpr std::size_t skeleton_workspace_bytes(int width, int height) noexcept {
-  return S::workspace_bytes(width, height);
-}
-
 }  // namespace perch

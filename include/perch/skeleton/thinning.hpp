@@ -1,9 +1,12 @@
 /// \file
-/// Classic two-sub-iteration parallel thinning: Zhang–Suen (1984) and Guo–Hall (1989), exactly
-/// as their papers define them, computed by processing only the pixels that can still change.
+/// Classic two-sub-iteration parallel thinning: one template, `two_subiteration_thinning`,
+/// parameterised by the deletion rule, and its two instances Zhang–Suen (1984) and Guo–Hall
+/// (1989), exactly as their papers define them, computed by processing only the pixels that can
+/// still change.
 #pragma once
 
 #include <bit>
+#include <concepts>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -53,10 +56,42 @@ namespace detail {
   return out;
 }
 
-inline constexpr neighbourhood_table zhang_suen_tables[2] = {
-    gathered_table(make_zhang_suen_table(0)), gathered_table(make_zhang_suen_table(1))};
-inline constexpr neighbourhood_table guo_hall_tables[2] = {
-    gathered_table(make_guo_hall_table(0)), gathered_table(make_guo_hall_table(1))};
+/// Zhang–Suen's deletion rule as `two_subiteration_thinning` takes it: the method's name and
+/// its two sub-iterations' deletion tables in neighbourhood-code order.
+struct zhang_suen_rule {
+  static constexpr std::string_view name = "zhang_suen";
+  static constexpr neighbourhood_table tables[2] = {make_zhang_suen_table(0),
+                                                    make_zhang_suen_table(1)};
+};
+
+/// Guo–Hall's deletion rule (algorithm A1) as `two_subiteration_thinning` takes it.
+struct guo_hall_rule {
+  static constexpr std::string_view name = "guo_hall";
+  static constexpr neighbourhood_table tables[2] = {make_guo_hall_table(0), make_guo_hall_table(1)};
+};
+
+/// True when `table` deletes no pixel whose four 4-neighbours are all foreground (code bits 0,
+/// 2, 4, 6): the thinning lists only pixels with a background 4-neighbour at the start.
+[[nodiscard]] constexpr bool keeps_interior(const neighbourhood_table& table) noexcept {
+  for (unsigned code = 0; code < 256; ++code)
+    if ((code & 0x55u) == 0x55u && table[code]) return false;
+  return true;
+}
+
+/// A deletion rule of a two-sub-iteration thinning: a name and two 256-entry deletion tables
+/// indexed by the neighbourhood code (`padded_image::code`), one per sub-iteration; neither
+/// table may delete an interior pixel (`keeps_interior`, checked at compile time).
+template <class R>
+concept ThinningRule = requires {
+  { R::name } -> std::convertible_to<std::string_view>;
+  { R::tables[0] } -> std::convertible_to<const neighbourhood_table&>;
+  { R::tables[1] } -> std::convertible_to<const neighbourhood_table&>;
+} && keeps_interior(R::tables[0]) && keeps_interior(R::tables[1]);
+
+/// `Rule`'s tables re-indexed by `gathered_code`, built at compile time.
+template <ThinningRule Rule>
+inline constexpr neighbourhood_table gathered_tables[2] = {gathered_table(Rule::tables[0]),
+                                                           gathered_table(Rule::tables[1])};
 
 /// Bytes the queue-driven thinning takes at most.
 [[nodiscard]] constexpr std::size_t thinning_workspace_bytes(int width, int height) noexcept {
@@ -71,8 +106,8 @@ inline constexpr neighbourhood_table guo_hall_tables[2] = {
 /// (parallel semantics), then deletes all the pixels it chose. Only pixels whose 3×3
 /// neighbourhood changed since they were last decided by the same sub-iteration are decided
 /// again (two candidate lists, one per sub-iteration, with a flag per pixel against
-/// duplicates); at the start, the pixels with a background 4-neighbour (no other pixel can meet
-/// either paper's conditions). The result equals the whole-image sweep of the paper. It stops
+/// duplicates); at the start, the pixels with a background 4-neighbour (the tables delete no
+/// other pixel: `keeps_interior`). The result equals the whole-image sweep of the paper. It stops
 /// when both lists are empty: a full iteration would delete nothing.
 inline status thin_two_subiterations(const neighbourhood_table* tables,
                                      image_view<const std::uint8_t> mask,
@@ -151,26 +186,21 @@ inline status thin_two_subiterations(const neighbourhood_table* tables,
 
 }  // namespace detail
 
-/// Zhang–Suen thinning (models `Skeletoniser`).
+/// Two-sub-iteration parallel thinning with deletion rule `Rule` (models `Skeletoniser`):
+/// `zhang_suen` and `guo_hall` are this template with their papers' rules.
 ///
-/// T. Y. Zhang and C. Y. Suen, "A fast parallel algorithm for thinning digital patterns",
-/// Communications of the ACM 27(3), 1984. With P2 … P9 the neighbours clockwise from north,
-/// B the number of foreground neighbours and A the number of 01 patterns in P2, P3, …, P9, P2,
-/// sub-iteration 1 deletes (in parallel) every pixel with 2 ≤ B ≤ 6, A = 1, P2·P4·P6 = 0 and
-/// P4·P6·P8 = 0 (south-east boundary and north-west corner points); sub-iteration 2 uses
-/// P2·P4·P8 = 0 and P2·P6·P8 = 0; repeat until an iteration deletes nothing. Computed with
-/// 256-entry tables built at compile time, deciding only pixels whose neighbourhood changed.
-///
-/// Guarantees: skeleton ⊆ mask; deterministic; faithful mode equals the paper's whole-image
-/// sweep bit for bit, and is a fixed point (thinning it again changes nothing). Known
-/// properties of the method, kept in faithful mode: it erases 2×2 squares (a component can
-/// vanish) and leaves 2×2 blocks on diagonal strokes; the default `thinness::one_pixel` removes
-/// the blocks with the topology-preserving clean-up.
+/// Each sub-iteration deletes, in parallel, every pixel its table says to delete; repeat until
+/// an iteration deletes nothing. Computed with the rule's tables re-indexed at compile time,
+/// deciding only pixels whose neighbourhood changed (`detail::thin_two_subiterations`).
+/// Guarantees: skeleton ⊆ mask; deterministic; faithful mode equals the whole-image sweep of
+/// the rule bit for bit, and is a fixed point (thinning it again changes nothing). The default
+/// `thinness::one_pixel` then removes 2×2 blocks with the topology-preserving clean-up.
 /// Errors: view errors, `size_mismatch`, workspace errors (needs `workspace_bytes`).
 /// Complexity: O(width × height) for the copies plus O(pixels deleted × 8) for the thinning
 /// (work proportional to the shape, not iterations × image area).
-struct zhang_suen {
-  static constexpr std::string_view name = "zhang_suen";
+template <detail::ThinningRule Rule>
+struct two_subiteration_thinning {
+  static constexpr std::string_view name = Rule::name;
   perch::thinness thinness = perch::thinness::one_pixel;  ///< one_pixel (default) or faithful
 
   [[nodiscard]] static constexpr std::size_t workspace_bytes(int width, int height) noexcept {
@@ -183,10 +213,27 @@ struct zhang_suen {
                                   image_view<std::uint8_t> skeleton, workspace& ws,
                                   detail::mask_runs listed = {}) const noexcept {
     PERCH_TRY(detail::validate_skeleton_views(mask, dist2, skeleton));
-    return detail::thin_two_subiterations(detail::zhang_suen_tables, mask, dist2, skeleton, ws,
-                                          thinness, listed);
+    return detail::thin_two_subiterations(detail::gathered_tables<Rule>, mask, dist2, skeleton,
+                                          ws, thinness, listed);
   }
 };
+
+/// Zhang–Suen thinning (models `Skeletoniser`).
+///
+/// T. Y. Zhang and C. Y. Suen, "A fast parallel algorithm for thinning digital patterns",
+/// Communications of the ACM 27(3), 1984. With P2 … P9 the neighbours clockwise from north,
+/// B the number of foreground neighbours and A the number of 01 patterns in P2, P3, …, P9, P2,
+/// sub-iteration 1 deletes (in parallel) every pixel with 2 ≤ B ≤ 6, A = 1, P2·P4·P6 = 0 and
+/// P4·P6·P8 = 0 (south-east boundary and north-west corner points); sub-iteration 2 uses
+/// P2·P4·P8 = 0 and P2·P6·P8 = 0; repeat until an iteration deletes nothing. Computed with
+/// 256-entry tables built at compile time, deciding only pixels whose neighbourhood changed.
+///
+/// Guarantees: as `two_subiteration_thinning`. Known properties of the method, kept in
+/// faithful mode: it erases 2×2 squares (a component can vanish) and leaves 2×2 blocks on
+/// diagonal strokes; the default `thinness::one_pixel` removes the blocks with the
+/// topology-preserving clean-up.
+/// Errors, complexity: as `two_subiteration_thinning`.
+using zhang_suen = two_subiteration_thinning<detail::zhang_suen_rule>;
 
 /// Guo–Hall thinning, algorithm A1 (models `Skeletoniser`).
 ///
@@ -198,28 +245,10 @@ struct zhang_suen {
 /// N(p) = min(N1, N2) with N1 = Σ x(2k−1) ∨ x(2k), N2 = Σ x(2k) ∨ x(2k+1); repeat until an
 /// iteration deletes nothing. Same queue-driven computation as `zhang_suen`.
 ///
-/// Guarantees: skeleton ⊆ mask; deterministic; faithful mode equals the paper's whole-image
-/// sweep bit for bit and is a fixed point; the method preserves connectivity (a 2×2 square
+/// Guarantees: as `two_subiteration_thinning`; the method preserves connectivity (a 2×2 square
 /// keeps one pixel). OpenCV's `ximgproc::thinning(THINNING_GUOHALL)` runs the two
 /// sub-iterations in the other order, so its output differs by a few pixels.
-/// Errors, complexity: as `zhang_suen`.
-struct guo_hall {
-  static constexpr std::string_view name = "guo_hall";
-  perch::thinness thinness = perch::thinness::one_pixel;  ///< one_pixel (default) or faithful
-
-  [[nodiscard]] static constexpr std::size_t workspace_bytes(int width, int height) noexcept {
-    return detail::thinning_workspace_bytes(width, height);
-  }
-
-  /// (`listed`: internal, see `detail::mask_runs`.)
-  [[nodiscard]] status operator()(image_view<const std::uint8_t> mask,
-                                  image_view<const std::uint32_t> dist2,
-                                  image_view<std::uint8_t> skeleton, workspace& ws,
-                                  detail::mask_runs listed = {}) const noexcept {
-    PERCH_TRY(detail::validate_skeleton_views(mask, dist2, skeleton));
-    return detail::thin_two_subiterations(detail::guo_hall_tables, mask, dist2, skeleton, ws,
-                                          thinness, listed);
-  }
-};
+/// Errors, complexity: as `two_subiteration_thinning`.
+using guo_hall = two_subiteration_thinning<detail::guo_hall_rule>;
 
 }  // namespace perch

@@ -11,8 +11,8 @@
 
 #include "perch/core/image_view.hpp"
 #include "perch/core/row_scan.hpp"
+#include "perch/core/union_find.hpp"
 #include "perch/label/connectivity.hpp"
-#include "perch/label/detail/equivalence.hpp"
 
 namespace perch::detail {
 
@@ -80,7 +80,7 @@ template <polarity P, class Row>
 /// Four-connectivity is the same with neighbours b and d only.
 template <polarity P, connectivity Conn, BinaryView Mask, MutableImageView Labels>
 inline void label_first_pass(const Mask& mask, const Labels& labels,
-                             label_equivalence& eq) noexcept {
+                             union_find& eq) noexcept {
   const int width = mask.width();
   const int height = mask.height();
   auto at = [](int x) { return static_cast<std::size_t>(x); };
@@ -156,7 +156,7 @@ inline void label_first_pass(const Mask& mask, const Labels& labels,
 /// hold 0 and are skipped without being read. Calls `visit(y, x_begin, x_end, final_label)` per
 /// run (for statistics).
 template <polarity P, BinaryView Mask, MutableImageView Labels, class Visit>
-inline void label_second_pass(const Mask& mask, const Labels& labels, const label_equivalence& eq,
+inline void label_second_pass(const Mask& mask, const Labels& labels, const union_find& eq,
                               Visit&& visit) noexcept {
   const int width = mask.width();
   for (int y = 0; y < mask.height(); ++y) {

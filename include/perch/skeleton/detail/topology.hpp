@@ -331,17 +331,115 @@ inline void sweep_redundant(const padded_image& img, std::uint32_t* queue, std::
   }
 }
 
+/// The deeper re-route of the one-pixel clean-up, for a 2×2 block none of whose pixels is
+/// simple and which no single added neighbour frees (a pixel whose four 4-neighbours are all
+/// skeleton pixels, or a branch leaving a corner diagonally, on every corner of the block: the
+/// two single steps of `remove_blocks` fail). It looks for the shortest sequence of at most
+/// `max_steps` changes inside the 4×4 window around the block (the block and the ring of twelve
+/// pixels about it), each a simple-pixel change when it is made: deleting a skeleton pixel
+/// that is simple and not an end pixel, or adding a pixel of the mask that is simple once added;
+/// a pixel changes at most once. A sequence is taken when it has deleted a pixel of the block
+/// and no pixel it added (and kept) lies in a 2×2 block. Each step is a simple-pixel change, so
+/// the sequence keeps the 8-components of the skeleton and the 4-components of its complement
+/// (Rosenfeld, "Connectivity in digital pictures", J. ACM 17(1), 1970: deleting or adding a
+/// simple pixel is a homotopy, so a sequence of them is one too; T. Y. Kong and A. Rosenfeld,
+/// "Digital topology: introduction and survey", CVGIP 48(3), 1989, §5); it removes the block
+/// and creates none, so the clean-up still terminates. Typical sequence: where a branch runs
+/// into a corner pixel p whose four 4-neighbours are skeleton pixels, add the mask pixel in the
+/// crook of the branch, delete the branch's pixel next to p, then p.
+struct block_reroute {
+  static constexpr int max_steps = 3;
+
+  const padded_image& img;
+  image_view<const std::uint8_t> mask;
+  std::ptrdiff_t block[4] = {};
+  std::ptrdiff_t window[16] = {};
+  std::ptrdiff_t changed[max_steps] = {};  ///< pixels changed so far, in order
+  int steps = 0;
+
+  /// For the block whose top-left pixel is `i` (which must not touch the working image's frame).
+  block_reroute(const padded_image& image, image_view<const std::uint8_t> m,
+                std::ptrdiff_t i) noexcept
+      : img(image), mask(m) {
+    const std::ptrdiff_t s = img.stride;
+    block[0] = i;
+    block[1] = i + 1;
+    block[2] = i + s;
+    block[3] = i + s + 1;
+    int k = 0;
+    for (int dy = -1; dy <= 2; ++dy)
+      for (int dx = -1; dx <= 2; ++dx) window[k++] = i + dy * s + dx;
+  }
+
+  [[nodiscard]] bool on(std::ptrdiff_t i) const noexcept { return (img.px[i] & 1u) != 0; }
+  [[nodiscard]] bool in_mask(std::ptrdiff_t i) const noexcept {
+    const pixel p = img.position(i);
+    return p.x >= 0 && p.y >= 0 && p.x < img.width && p.y < img.height && mask(p.x, p.y) != 0;
+  }
+  [[nodiscard]] bool in_block(std::ptrdiff_t q) const noexcept {
+    const std::ptrdiff_t s = img.stride;
+    auto is_block = [&](std::ptrdiff_t i) {
+      return ((img.px[i] & img.px[i + 1] & img.px[i + s] & img.px[i + s + 1]) & 1u) != 0;
+    };
+    return is_block(q) || is_block(q - 1) || is_block(q - s) || is_block(q - s - 1);
+  }
+  [[nodiscard]] bool was_changed(std::ptrdiff_t q) const noexcept {
+    for (int k = 0; k < steps; ++k)
+      if (changed[k] == q) return true;
+    return false;
+  }
+  /// The block is gone and no pixel added so far lies in a block.
+  [[nodiscard]] bool done() const noexcept {
+    if (on(block[0]) && on(block[1]) && on(block[2]) && on(block[3])) return false;
+    for (int k = 0; k < steps; ++k)
+      if (on(changed[k]) && in_block(changed[k])) return false;
+    return true;
+  }
+  /// Depth-first over the sequences of at most `budget` more steps; leaves the image changed
+  /// and returns true on success, else leaves it as it was.
+  [[nodiscard]] bool search(int budget) noexcept {
+    if (done()) return true;
+    if (budget == 0) return false;
+    for (const std::ptrdiff_t q : window) {
+      if (was_changed(q)) continue;
+      const bool was_on = on(q);
+      // A pixel outside the mask stays background; a skeleton pixel is inside the mask, so
+      // codes are only read inside the working image's frame.
+      if (!was_on && !in_mask(q)) continue;
+      const unsigned c = img.code(q);
+      if (was_on ? !deletable_table[c] : !simple_table[c]) continue;
+      img.px[q] = was_on ? 0 : 1;
+      changed[steps++] = q;
+      if (search(budget - 1)) return true;
+      --steps;
+      img.px[q] = was_on ? 1 : 0;
+    }
+    return false;
+  }
+  /// Iterative deepening: the shortest sequence found first.
+  [[nodiscard]] bool run() noexcept {
+    for (int budget = 1; budget <= max_steps; ++budget)
+      if (search(budget)) return true;
+    return false;
+  }
+};
+
 /// The one-pixel clean-up: removes every 2×2 block of skeleton pixels it can without changing
 /// the topology. In each block it deletes the simple pixel of smallest dist2 (ties: raster
 /// order); when no block pixel is simple (four branches meeting diagonally), it re-routes one
 /// branch: adds a neighbour q of a block pixel p, outside the block and inside the mask, whose
-/// addition is simple and creates no block, then deletes p if it is simple now. Both steps are simple-pixel
-/// changes, so components and holes are kept; each step removes at least one block and adds
-/// none, so it terminates. Pixels next to every change are then swept for redundancy (simple
-/// non-end pixels are deleted), so the result is again irreducible.
-/// Returns the number of blocks left: 0 unless every pixel of a block carries a branch of its
-/// own and the mask leaves no room to re-route one (then no thin subset of the mask with the
-/// same topology keeps all the branches, short of deleting a branch from its end pixel). `queue` must have room for every pixel.
+/// addition is simple and creates no block, then deletes p if it is simple now. When neither
+/// step frees any block left, a second phase also tries `block_reroute` (a short sequence of
+/// simple changes around the block) on each; a skeleton the first phase cleans up completely
+/// is never touched by it. All steps are simple-pixel changes, so components and holes are
+/// kept; each step removes at least one block and adds none, so it terminates. Pixels next to
+/// every change are then swept for redundancy (simple non-end pixels are deleted), so the
+/// result is again irreducible.
+/// Returns the number of blocks left: 0 unless the mask is hardly wider than the skeleton
+/// around a block (noise masks). Some masks have no thin subset with their topology at all:
+/// four one-pixel holes around a 2×2 block, each enclosed by a diamond of mask pixels through
+/// a corner of the block, need the whole block (any pixel taken out of it is a new hole).
+/// `queue` must have room for every pixel.
 inline std::size_t remove_blocks(const padded_image& img, image_view<const std::uint8_t> mask,
                                  image_view<const std::uint32_t> dist2,
                                  std::uint32_t* queue) noexcept {
@@ -368,6 +466,7 @@ inline std::size_t remove_blocks(const padded_image& img, image_view<const std::
   };
   std::size_t left = 0;
   bool changed = false;
+  bool deep = false;  // whether `block_reroute` may be tried
   // Removes the block whose top-left pixel is i, or counts it as left.
   auto unblock = [&](std::ptrdiff_t i) {
     std::ptrdiff_t block[4] = {i, i + 1, i + s, i + s + 1};
@@ -410,6 +509,17 @@ inline std::size_t remove_blocks(const padded_image& img, image_view<const std::
           break;
         }
         img.px[q] = 0;
+      }
+    }
+    if (!done && deep) {
+      block_reroute reroute(img, mask, i);
+      if (reroute.run()) {
+        for (int k = 0; k < reroute.steps; ++k) {
+          const std::ptrdiff_t q = reroute.changed[k];
+          seed(q);
+          for (int j = 0; j < 8; ++j) seed(q + img.offset[j]);
+        }
+        done = true;
       }
     }
     if (done) {
@@ -458,19 +568,24 @@ inline std::size_t remove_blocks(const padded_image& img, image_view<const std::
   };
   // A block's top row has two skeleton pixels side by side, so it lies inside a run of the mask
   // (the skeleton stays inside the mask): only the runs are scanned when they are listed.
-  do {
-    changed = false;
-    left = 0;
-    for (int y = 0; y + 1 < img.height; ++y) {
-      const std::ptrdiff_t row = img.index(0, y);
-      if (img.runs != nullptr) {
-        for (const row_run r : img.runs->row(y))
-          scan(row, static_cast<int>(r.begin), static_cast<int>(r.end));
-      } else {
-        scan(row, 0, img.width);
+  // The deeper re-route only once the single steps are done with every block, so a skeleton
+  // they clean up completely is the same as without it.
+  for (int phase = 0; phase < 2 && (phase == 0 || left > 0); ++phase) {
+    deep = phase == 1;
+    do {
+      changed = false;
+      left = 0;
+      for (int y = 0; y + 1 < img.height; ++y) {
+        const std::ptrdiff_t row = img.index(0, y);
+        if (img.runs != nullptr) {
+          for (const row_run r : img.runs->row(y))
+            scan(row, static_cast<int>(r.begin), static_cast<int>(r.end));
+        } else {
+          scan(row, 0, img.width);
+        }
       }
-    }
-  } while (changed);
+    } while (changed);
+  }
   return left;
 }
 

@@ -1,0 +1,168 @@
+/// \file
+/// The synthetic populations perch is measured on: two differently built tree families, each
+/// varied widely (sizes, scales, crown forms, bending, kinks, crossings, twigs, pinholes,
+/// outline noise, fragments, a second tree, limbs leaving the frame), with the truth of
+/// `perch_truth`. For finding failures, not for a score: no member is tuned one by one.
+///
+///  - `tree_family::arcs` (`make_tree`): forks and side limbs on circular arcs, bent and kinked
+///    at will; a fifth of its members are built with no feasible perch (`perch_supply::none`).
+///  - `tree_family::colonisation` (`make_colonisation_tree`, Runions et al. 2007): crowns grown
+///    toward attraction points, decurrent, excurrent, columnar and irregular.
+///
+/// Host code: allocates, no exceptions. Not part of the library.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "support/colonisation_tree.hpp"
+#include "support/synthetic_tree.hpp"
+
+namespace perch::support {
+
+/// A generator of trees.
+enum class tree_family : std::uint8_t { arcs, colonisation };
+
+[[nodiscard]] constexpr std::string_view to_string(tree_family f) noexcept {
+  return f == tree_family::arcs ? "arcs" : "colonisation";
+}
+
+/// One member of a population: its tree and what it was built with.
+struct population_member {
+  tree_family family = tree_family::arcs;
+  int index = 0;
+  std::string kind;        ///< the knobs that are on, e.g. "noisy+kinks"
+  bool built_without_perch = false;  ///< `perch_supply::none`: must get no perch
+  synthetic_tree tree;
+};
+
+namespace detail::population {
+
+/// Image sizes of the population (4:3), smallest first.
+inline constexpr int widths[] = {640, 800, 960, 1280};
+
+/// A small deterministic hash of (i, salt) for choosing knobs: the same member is the same tree
+/// everywhere, whatever else the population holds.
+[[nodiscard]] constexpr std::uint32_t mix(int i, std::uint32_t salt) noexcept {
+  std::uint32_t h = static_cast<std::uint32_t>(i) * 0x9E3779B9u + salt * 0x85EBCA6Bu;
+  h ^= h >> 15;
+  h *= 0x2C1B3C6Du;
+  h ^= h >> 12;
+  return h;
+}
+/// A value in [lo, hi] from (i, salt).
+[[nodiscard]] constexpr float pick(int i, std::uint32_t salt, float lo, float hi) noexcept {
+  return lo + (hi - lo) * static_cast<float>(mix(i, salt) % 10001u) / 10000.0f;
+}
+[[nodiscard]] constexpr bool chance(int i, std::uint32_t salt, float p) noexcept {
+  return pick(i, salt, 0.0f, 1.0f) < p;
+}
+
+inline void add(std::string& kind, const char* what) {
+  if (!kind.empty()) kind += '+';
+  kind += what;
+}
+
+}  // namespace detail::population
+
+/// Member `i` of the arcs family at `magnify` times the base size.
+[[nodiscard]] inline population_member arcs_member(int i, int magnify = 1) {
+  namespace p = detail::population;
+  population_member m;
+  m.family = tree_family::arcs;
+  m.index = i;
+  tree_options o;
+  o.width = p::widths[i % 4] * magnify;
+  o.height = o.width * 3 / 4;
+  o.seed = 7000u + static_cast<std::uint32_t>(i);
+  // The trunk 3.5–8 % of the width: 1.8–8 mm/px at the base sizes.
+  o.mm_per_px = 180.0f / (p::pick(i, 1, 0.035f, 0.08f) * static_cast<float>(o.width));
+  o.levels = 2 + static_cast<int>(p::mix(i, 2) % 2u);
+  o.branches_per_node = 2 + static_cast<int>(p::mix(i, 3) % 2u);
+  o.side_limbs = static_cast<int>(p::mix(i, 4) % 3u);
+  o.wide_side_angles = p::chance(i, 5, 0.5f);
+  if (i % 5 == 0) {
+    o.perches = perch_supply::none;
+    m.built_without_perch = true;
+    p::add(m.kind, "none");
+  }
+  const float noise = 1.0f + 0.0016f * static_cast<float>(o.width);
+  if (p::chance(i, 6, 0.35f)) {
+    o.noise = noise;
+    o.twigs = 4 + static_cast<int>(p::mix(i, 7) % 8u);
+    o.holes = static_cast<int>(p::mix(i, 8) % 3u);
+    p::add(m.kind, "noisy");
+  }
+  if (p::chance(i, 9, 0.4f)) {
+    o.bending = p::pick(i, 10, 0.3f, 1.0f);
+    p::add(m.kind, "bent");
+  }
+  if (p::chance(i, 11, 0.25f)) {
+    o.kinks = 1 + static_cast<int>(p::mix(i, 12) % 2u);
+    p::add(m.kind, "kinks");
+  }
+  if (p::chance(i, 13, 0.25f)) {
+    o.crossings = 1 + static_cast<int>(p::mix(i, 14) % 2u);
+    p::add(m.kind, "crossings");
+  }
+  if (p::chance(i, 15, 0.25f)) {
+    o.second_tree = p::pick(i, 16, 0.4f, 0.7f);
+    p::add(m.kind, "second");
+  }
+  if (p::chance(i, 17, 0.25f)) {
+    o.fragments = 1 + static_cast<int>(p::mix(i, 18) % 3u);
+    p::add(m.kind, "fragments");
+  }
+  if (m.kind.empty()) m.kind = "clean";
+  m.tree = make_tree(o);
+  return m;
+}
+
+/// Member `i` of the colonisation family at `magnify` times the base size.
+[[nodiscard]] inline population_member colonisation_member(int i, int magnify = 1) {
+  namespace p = detail::population;
+  population_member m;
+  m.family = tree_family::colonisation;
+  m.index = i;
+  colonisation_options o;
+  o.width = p::widths[2 + i % 2] * magnify;  // crowns need room: 960 or 1280 px
+  o.height = o.width * 3 / 4;
+  o.seed = 9000u + static_cast<std::uint32_t>(i);
+  o.trunk_diameter_mm = p::pick(i, 21, 150.0f, 300.0f);
+  // The trunk 2.5–6 % of the width (a crown 8–20 trunks wide): 2–12 mm/px.
+  o.mm_per_px = o.trunk_diameter_mm / (p::pick(i, 22, 0.025f, 0.06f) * static_cast<float>(o.width));
+  constexpr crown_form forms[] = {crown_form::decurrent, crown_form::excurrent,
+                                  crown_form::columnar, crown_form::irregular};
+  o.form = forms[i % 4];
+  constexpr const char* form_names[] = {"decurrent", "excurrent", "columnar", "irregular"};
+  p::add(m.kind, form_names[i % 4]);
+  if (p::chance(i, 23, 0.35f)) {
+    o.noise = 1.0f + 0.0016f * static_cast<float>(o.width);
+    o.twigs = 4 + static_cast<int>(p::mix(i, 24) % 8u);
+    o.holes = static_cast<int>(p::mix(i, 25) % 3u);
+    p::add(m.kind, "noisy");
+  }
+  if (p::chance(i, 26, 0.3f)) {
+    o.overflow = p::pick(i, 27, 0.1f, 0.4f);
+    p::add(m.kind, "overflow");
+  }
+  if (p::chance(i, 28, 0.25f)) {
+    o.second_tree = p::pick(i, 29, 0.4f, 0.7f);
+    p::add(m.kind, "second");
+  }
+  if (p::chance(i, 30, 0.25f)) {
+    o.fragments = 1 + static_cast<int>(p::mix(i, 31) % 3u);
+    p::add(m.kind, "fragments");
+  }
+  m.tree = make_colonisation_tree(o);
+  return m;
+}
+
+/// Member `i` of `family`.
+[[nodiscard]] inline population_member population_tree(tree_family family, int i,
+                                                        int magnify = 1) {
+  return family == tree_family::arcs ? arcs_member(i, magnify) : colonisation_member(i, magnify);
+}
+
+}  // namespace perch::support
