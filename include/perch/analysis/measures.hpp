@@ -210,37 +210,67 @@ inline void tangent_profile(std::span<const pixel> points, std::span<const float
   PERCH_ASSERT(arc_px.size() == n && radius_px.size() == n && tangent_x.size() == n &&
                    tangent_y.size() == n,
                "tangent_profile: sizes");
+  if (n == 0) return;
+  // Sums of x, y, x², xy, y² over the points in [a, b], from running sums relative to the
+  // first point (exact in double for any image size), so each fit costs O(1).
+  struct moments {
+    double x = 0, y = 0, xx = 0, xy = 0, yy = 0;
+  };
+  const pixel origin = points[0];
+  auto add = [&](moments& m, std::size_t k, double sign) {
+    const double x = points[k].x - origin.x;
+    const double y = points[k].y - origin.y;
+    m.x += sign * x;
+    m.y += sign * y;
+    m.xx += sign * x * x;
+    m.xy += sign * x * y;
+    m.yy += sign * y * y;
+  };
+  moments window;
+  std::size_t lo = 0, hi = 0;  // the points [lo, hi) are in `window`
+  std::size_t first = 0, end = 0;  // the points within h of arc: [first, end)
   for (std::size_t i = 0; i < n; ++i) {
     const float h = std::max(radius_px[i], min_half_arc_px);
-    // The points within h of arc (the radius varies along the limb, so each is searched).
-    const auto lo = static_cast<std::size_t>(
-        std::lower_bound(arc_px.begin(), arc_px.end(), arc_px[i] - h) - arc_px.begin());
-    const auto hi = static_cast<std::size_t>(
-        std::upper_bound(arc_px.begin(), arc_px.end(), arc_px[i] + h) - arc_px.begin());
-    const std::size_t a = std::min(lo, i > 0 ? i - 1 : i);
-    const std::size_t b = std::max(hi > 0 ? hi - 1 : 0, i + 1 < n ? i + 1 : i);
-    const pixel origin = points[i];
-    double mx = 0, my = 0;
-    for (std::size_t k = a; k <= b; ++k) {
-      mx += points[k].x - origin.x;
-      my += points[k].y - origin.y;
+    // The radius varies slowly along a limb, so both bounds move a step or two either way.
+    while (first > 0 && arc_px[first - 1] >= arc_px[i] - h) --first;
+    while (arc_px[first] < arc_px[i] - h) ++first;
+    while (end > 0 && arc_px[end - 1] > arc_px[i] + h) --end;
+    while (end < n && arc_px[end] <= arc_px[i] + h) ++end;
+    const std::size_t a = std::min(first, i > 0 ? i - 1 : i);
+    const std::size_t b = std::max(end, std::min(i + 2, n));
+    // Slide the window to [a, b): usually a step or two at each end.
+    if (a >= hi || b <= lo) {
+      window = {};
+      lo = hi = a;
     }
-    const auto count = static_cast<double>(b - a + 1);
-    mx /= count;
-    my /= count;
-    double sxx = 0, sxy = 0, syy = 0;
-    for (std::size_t k = a; k <= b; ++k) {
-      const double dx = points[k].x - origin.x - mx;
-      const double dy = points[k].y - origin.y - my;
-      sxx += dx * dx;
-      sxy += dx * dy;
-      syy += dy * dy;
+    while (lo > a) add(window, --lo, 1.0);
+    while (lo < a) add(window, lo++, -1.0);
+    while (hi < b) add(window, hi++, 1.0);
+    while (hi > b) add(window, --hi, -1.0);
+    const auto count = static_cast<double>(b - a);
+    const double mx = window.x / count, my = window.y / count;
+    const double sxx = window.xx - count * mx * mx;
+    const double sxy = window.xy - count * mx * my;
+    const double syy = window.yy - count * my * my;
+    // The principal axis: the eigenvector of the larger eigenvalue of the symmetric 2 × 2
+    // scatter matrix, in closed form (no trigonometry in the per-point loop).
+    const double half_diff = 0.5 * (sxx - syy);
+    const double root = std::sqrt(half_diff * half_diff + sxy * sxy);
+    double vx = 1, vy = 0;  // isotropic scatter (a lone point): any axis
+    if (root > 0) {
+      if (half_diff >= 0) {
+        vx = half_diff + root;
+        vy = sxy;
+      } else {
+        vx = sxy;
+        vy = root - half_diff;
+      }
     }
-    const double angle = 0.5 * std::atan2(2.0 * sxy, sxx - syy);
-    auto tx = static_cast<float>(std::cos(angle));
-    auto ty = static_cast<float>(std::sin(angle));
-    const auto cx = static_cast<float>(points[b].x - points[a].x);
-    const auto cy = static_cast<float>(points[b].y - points[a].y);
+    const double norm = std::sqrt(vx * vx + vy * vy);
+    auto tx = static_cast<float>(vx / norm);
+    auto ty = static_cast<float>(vy / norm);
+    const auto cx = static_cast<float>(points[b - 1].x - points[a].x);
+    const auto cy = static_cast<float>(points[b - 1].y - points[a].y);
     if (tx * cx + ty * cy < 0) {
       tx = -tx;
       ty = -ty;

@@ -100,6 +100,11 @@ template <ScalePolicy Scale>
   curvature_profile(branch.points, kappa, work, options.curvature_at(global_mm_per_px));
   tangent_profile(branch.points, arc, branch.radius_px, tangent_x, tangent_y);
   bend_profile(arc, tangent_x, tangent_y, 0.5f * options.drone_width_mm / global_mm_per_px, bend);
+  const point2f h = options.camera.horizon();
+  // Each point's slope, once (windows overlap): kept in tangent_x, no longer needed.
+  std::span<float> slope = tangent_x;
+  for (std::size_t i = 0; i < n; ++i)
+    slope[i] = slope_to_horizon_deg(point2f(tangent_x[i], tangent_y[i]), h);
   // The gap between the outline at point i and the frame's edge (px).
   const bool framed = branch.frame_width > 0 && branch.frame_height > 0;
   auto border_gap = [&](std::size_t i) {
@@ -108,7 +113,6 @@ template <ScalePolicy Scale>
     return static_cast<float>(edge) - branch.radius_px[i];
   };
   const float total_px = arc[n - 1];
-  const point2f h = options.camera.horizon();
 
   // Origin end, in local coordinates, and arc length measured from it.
   const bool from_front = branch.origin == origin_end::front;
@@ -178,7 +182,7 @@ template <ScalePolicy Scale>
     const float claw_half_px = 0.5f * options.claw_width_mm / mm_per_px;
     for (std::size_t i = a; i <= b; ++i) {
       kmax = std::max(kmax, std::abs(kappa[i]));
-      slope_max = std::max(slope_max, slope_to_horizon_deg(point2f(tangent_x[i], tangent_y[i]), h));
+      slope_max = std::max(slope_max, slope[i]);
       bend_max = std::max(bend_max, bend[i]);
       if (framed) border = std::min(border, border_gap(i));
       ksum += std::abs(kappa[i]);

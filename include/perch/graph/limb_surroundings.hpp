@@ -58,7 +58,10 @@ struct limb_obstacles {
                                                                 std::size_t skeleton_pixels,
                                                                 int width, int height) noexcept {
   const std::size_t discs = skeleton_pixels + 2 * limbs;
+  std::size_t slots = 16;  // detail::pixel_set_slots(skeleton_pixels)
+  while (slots < 2 * skeleton_pixels) slots *= 2;
   return workspace::footprint<owner_set>(limbs) + 2 * workspace::footprint<owned_disc>(discs) +
+         workspace::footprint<std::uint32_t>(slots) +
          2 * disc_index::workspace_bytes(discs, width, height);
 }
 
@@ -141,6 +144,44 @@ struct junction_caps {
   return out;
 }
 
+/// Slots of a `pixel_set` for `n` pixels: a power of two, at least twice `n`.
+[[nodiscard]] constexpr std::size_t pixel_set_slots(std::size_t n) noexcept {
+  std::size_t slots = 16;
+  while (slots < 2 * n) slots *= 2;
+  return slots;
+}
+
+/// A set of pixels of a `width`-wide frame in zeroed workspace slots (`pixel_set_slots`): open
+/// addressing with linear probing, key y·width + x + 1 (0 marks an empty slot).
+struct pixel_set {
+  std::span<std::uint32_t> slots;
+  int width = 0;
+  [[nodiscard]] std::uint32_t key(pixel p) const noexcept {
+    return static_cast<std::uint32_t>(p.y) * static_cast<std::uint32_t>(width) +
+           static_cast<std::uint32_t>(p.x) + 1u;
+  }
+  [[nodiscard]] std::size_t home(std::uint32_t k) const noexcept {
+    return static_cast<std::size_t>(k * 0x9E3779B1u) & (slots.size() - 1);  // Fibonacci hashing
+  }
+  void insert(pixel p) const noexcept {
+    const std::uint32_t k = key(p);
+    for (std::size_t i = home(k);; i = (i + 1) & (slots.size() - 1)) {
+      if (slots[i] == k) return;
+      if (slots[i] == 0) {
+        slots[i] = k;
+        return;
+      }
+    }
+  }
+  [[nodiscard]] bool contains(pixel p) const noexcept {
+    const std::uint32_t k = key(p);
+    for (std::size_t i = home(k);; i = (i + 1) & (slots.size() - 1)) {
+      if (slots[i] == k) return true;
+      if (slots[i] == 0) return false;
+    }
+  }
+};
+
 /// Whether every pixel on the straight line from `a` to `b` (sampled every half pixel, nearest
 /// pixel) is tree in `mask`.
 [[nodiscard]] inline bool tree_between(image_view<const std::uint8_t> mask, point2f a,
@@ -190,9 +231,12 @@ struct junction_caps {
   auto own = ws.allocate<owner_set>(limbs.size());
   auto limb_discs = ws.allocate<owned_disc>(points);
   auto discs = ws.allocate<owned_disc>(total);
+  auto listed_points = ws.allocate_zeroed<std::uint32_t>(detail::pixel_set_slots(points));
   if (!own) return unexpected{own.error()};
   if (!limb_discs) return unexpected{limb_discs.error()};
   if (!discs) return unexpected{discs.error()};
+  if (!listed_points) return unexpected{listed_points.error()};
+  const detail::pixel_set on_limb{*listed_points, width};
   // A disc of distance-map radius r stands for a width of about 2·r − 1 px.
   const float min_radius_px = 0.5f * (options.twig_max_mm / mm_per_px - options.uncertainty_px) + 0.5f;
   std::size_t count = 0, listed = 0;
@@ -207,6 +251,7 @@ struct junction_caps {
       if ((p - caps.front_node).squaredNorm() <= caps.front_reach2) r = std::min(r, caps.front_radius);
       if ((p - caps.back_node).squaredNorm() <= caps.back_reach2) r = std::min(r, caps.back_radius);
       (*limb_discs)[listed++] = {p.x(), p.y(), r, static_cast<std::int32_t>(l)};
+      on_limb.insert(limb.points[i]);
       if (r >= min_radius_px) (*discs)[count++] = {p.x(), p.y(), r - 0.5f, static_cast<std::int32_t>(l)};
     }
     // The limbs leaving it at the junctions at its ends, from the fork on.
@@ -227,14 +272,17 @@ struct junction_caps {
   const auto frame = static_cast<float>(std::max(width, height));
   detail::for_each_skeleton_pixel(skeleton, runs, [&](int x, int y) {
     const point2f p(static_cast<float>(x), static_cast<float>(y));
+    if (count >= total || on_limb.contains({x, y})) return;
     auto seen_through_tree = [&](const owned_disc& d) {
       return detail::tree_between(mask, p, point2f(d.x, d.y));
     };
-    // Pruned pixels lie next to their limb: look near first, then farther.
-    const owned_disc* nearest = nullptr;
+    // Pruned pixels lie next to their limb: the nearest limb point, when the tree joins them
+    // (nearly always); else the nearest that it does, looked for near first, then farther.
+    const owned_disc* nearest = by_limb->nearest_centre(p, 8.0f);
+    if (nearest != nullptr && !seen_through_tree(*nearest)) nearest = nullptr;
     for (float reach = 8.0f; nearest == nullptr && reach < 2.0f * frame; reach *= 4.0f)
       nearest = by_limb->nearest_centre_if(p, reach, seen_through_tree);
-    if (nearest == nullptr || (nearest->x == p.x() && nearest->y == p.y()) || count >= total) return;
+    if (nearest == nullptr) return;
     const float r = std::min(std::sqrt(static_cast<float>(dist2(x, y))), nearest->radius);
     if (r >= min_radius_px) (*discs)[count++] = {p.x(), p.y(), r - 0.5f, nearest->owner};
   });
