@@ -192,5 +192,5 @@ TEST_CASE("invariants: synthetic trees with noise, twigs, holes, crossings, a se
     found += check_all(tree.mask, tree.mm_per_px, ws);
   }
   MESSAGE("synthetic trees: " << found << " runs of 320 found a perch");
-  CHECK(found > 40);  // 84 when written
+  CHECK(found > 15);  // 84 when written; 24 under the safe-perch rules (issue 24)
 }

@@ -201,9 +201,9 @@ TEST_CASE("benchmark_tree: pinned bytes, so every compiler and platform benches 
     return h;
   };
   CHECK(fnv1a(perch::support::benchmark_tree(640, 480, tree_noise::clean).mask) ==
-        12782355193781005450ull);
+        15229586214027178014ull);  // seed 23 (issue 24: a tree with safe perches)
   CHECK(fnv1a(perch::support::benchmark_tree(640, 480, tree_noise::noisy).mask) ==
-        11261795359396173248ull);
+        4076996194955107712ull);
 }
 
 TEST_CASE(

@@ -1131,14 +1131,15 @@ inline void add_holes(const tree_options& o, const std::vector<limb_truth>& limb
   return tree;
 }
 
-/// The options of `benchmark_tree`: a fixed seed (1), the trunk 4.5 % of the image width
-/// (180 mm trunk, mm_per_px = 180 / (0.045·width)); `noisy` adds outline noise of
-/// 1 + 0.0016·width px, 24 twigs and 3 holes to the same tree.
+/// The options of `benchmark_tree`: a fixed seed (23: a tree that offers the tendon claw safe
+/// perches at most sizes, so that a benchmark times the clearance queries of the ranking too),
+/// the trunk 4.5 % of the image width (180 mm trunk, mm_per_px = 180 / (0.045·width)); `noisy`
+/// adds outline noise of 1 + 0.0016·width px, 24 twigs and 3 holes to the same tree.
 [[nodiscard]] inline tree_options benchmark_tree_options(int width, int height, tree_noise noise) {
   tree_options o;
   o.width = width;
   o.height = height;
-  o.seed = 1;
+  o.seed = 23;
   o.trunk_diameter_mm = 180.0f;
   o.mm_per_px = width > 0 ? 180.0f / (0.045f * static_cast<float>(width)) : 1.0f;
   if (noise == tree_noise::noisy) {

@@ -22,7 +22,7 @@ namespace perch {
 /// (the peeling goes round the whole tree once per distance level), so on large frames the
 /// pipeline's time goes to TLB misses as much as to cache misses; with 2 MiB pages the
 /// workspace of a 4000×3000 call (about 120 MB) needs some 60 TLB entries instead of 30 000.
-/// Measured: `find_perch` at 4000×3000 47–51 → 39–42 ms, 1920×1080 unchanged (README, Performance).
+/// It pays on large frames only (timings: docs/performance-log.md).
 /// An owning `workspace` on the default resource now gives its own blocks the same hint on
 /// Linux; this resource maps whole 2 MiB-aligned blocks itself, for setups that want that.
 ///

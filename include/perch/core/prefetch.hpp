@@ -25,10 +25,9 @@ PERCH_PREFETCH_INLINE void prefetch(const void* p) noexcept {
 #endif
 }
 
-/// Images of at least this many pixels fetch ahead where a pass jumps from row to row. Below
-/// that the hints buy nothing (640 × 480: the same time). Measured on two hosts: with a 16 MB
-/// last-level cache they saved a tenth at 4000 × 3000 and cost 0.03 ms at 1920 × 1080; with a
-/// 32 MB one they save 0.1–0.2 ms of the distance stage at 1920 × 1080 as well.
+/// Images of at least this many pixels fetch ahead where a pass jumps from row to row: the
+/// hints pay once a pass's rows outgrow the last-level cache, and below that they buy nothing
+/// or cost a little (timings on two hosts: docs/performance-log.md).
 inline constexpr std::size_t fetch_ahead_from = std::size_t{1} << 20;
 
 /// A hint to fetch the cache lines holding the `n` elements from `first` (64-byte lines).

@@ -30,9 +30,9 @@ struct prune_options {
   /// Leaf edges with length ≤ factor·r + tip_spur_px are spurs (r = radius of the node they hang
   /// from), at any scale: the medial axis forks at round tips (spurs of about r) and reaches
   /// every bump of a rough outline along the bump's bisector, about 45° to the axis (spurs of
-  /// √2·r plus the bump). 1.8 measured best on the synthetic population (1.2: 85.6 %, 1.5:
-  /// 87.4 %, 1.8 and 2.2: 88.0 %): shorter spurs survive and cut limbs into pieces shorter than
-  /// a window.
+  /// √2·r plus the bump). A smaller factor lets spurs survive that cut limbs into pieces
+  /// shorter than a window; 1.8 is the smallest that scored best on the synthetic population
+  /// (docs/accuracy-log.md).
   float tip_spur_factor = 1.8f;
   float tip_spur_px = 2.0f;
 

@@ -15,6 +15,7 @@
 #include "perch/core/image_view.hpp"
 #include "perch/core/prefetch.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/union_find.hpp"
 #include "perch/core/workspace.hpp"
 #include "perch/graph/adjacency_list.hpp"
 #include "perch/graph/detail/records.hpp"
@@ -282,17 +283,6 @@ struct skeleton_graph_access {
   static std::size_t& skeleton_pixels(skeleton_graph& g) noexcept { return g.skeleton_pixels_; }
 };
 
-/// Union–find root with path halving.
-[[nodiscard]] inline std::int32_t component_root(std::span<std::int32_t> parent,
-                                            std::int32_t i) noexcept {
-  while (parent[static_cast<std::size_t>(i)] != i) {
-    const auto u = static_cast<std::size_t>(i);
-    parent[u] = parent[static_cast<std::size_t>(parent[u])];
-    i = parent[u];
-  }
-  return i;
-}
-
 /// Everything of `build_skeleton_graph` after the graph's storage is allocated; `scratch`
 /// memory is drawn from `ws` and released by the caller.
 template <BinaryView Skeleton>
@@ -522,28 +512,22 @@ template <BinaryView Skeleton>
   }
 
   // 4. Components: union–find over edges, numbered in raster order of the first pixel.
-  const std::span<std::int32_t> parent = *parent_s;
   const std::span<std::int32_t> number = *number_s;
   const auto node_end = static_cast<std::size_t>(g.node_id_end());
-  for (std::size_t i = 0; i < node_end; ++i) {
-    parent[i] = static_cast<std::int32_t>(i);
-    number[i] = -1;
-  }
-  g.for_each_edge([&](edge_id e) {
-    const std::int32_t a = component_root(parent, g.source(e));
-    const std::int32_t b = component_root(parent, g.target(e));
-    if (a != b) parent[static_cast<std::size_t>(a < b ? b : a)] = a < b ? a : b;
-  });
+  detail::union_find sets{parent_s->data(), 0, static_cast<std::int32_t>(node_cap) - 1};
+  sets.make_singletons(g.node_id_end());
+  for (std::size_t i = 0; i < node_end; ++i) number[i] = -1;
+  g.for_each_edge([&](edge_id e) { (void)sets.merge(g.source(e), g.target(e)); });
+  sets.resolve();
+  auto root_of = [&](node_id v) { return static_cast<std::size_t>(sets.parent[v]); };
   std::int32_t components = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const node_id any = node_owned(i) ? node_of(i) : g.source(static_cast<edge_id>(owner[i]));
-    const auto root = static_cast<std::size_t>(component_root(parent, any));
+    const std::size_t root = root_of(any);
     if (number[root] < 0) number[root] = components++;
   }
   access::components(out) = components;
-  g.for_each_node([&](node_id v) {
-    g.node(v).component = number[static_cast<std::size_t>(component_root(parent, v))];
-  });
+  g.for_each_node([&](node_id v) { g.node(v).component = number[root_of(v)]; });
   g.for_each_edge([&](edge_id e) { g.edge(e).component = g.node(g.source(e)).component; });
 
   // 5. Trunk of each component: among its ends (degree-1 nodes) whose branch has a mean

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string_view>
 
@@ -17,7 +18,7 @@ namespace perch {
 
 namespace detail {
 [[nodiscard]] constexpr bool finite_non_negative(float v) noexcept {
-  return v >= 0 && v <= 3.4e38f;  // false for NaN and ∞
+  return v >= 0 && v <= std::numeric_limits<float>::max();  // false for NaN and ∞
 }
 }  // namespace detail
 
@@ -33,10 +34,10 @@ namespace detail {
 /// The lower tercile guards the minimum against a rough outline: bumps, spurs and leaves on a
 /// limb's outline only add to its cross-sections, so on a limb near `min_mm` they lift the mean
 /// by a pixel or more and the scorer then picks exactly such limbs. On a smooth outline the
-/// lower tercile lies a few tenths of a pixel below the mean and the mean's test decides. On
-/// the synthetic population of `tests/pli_accuracy_test.cpp` it turns 2 of 3 "diameter" wrong
-/// sites on noisy limbs into right ones (153 → 155 of 167). Windows whose `diameter_low_mm` is
-/// 0 (not measured) skip this test; a negative `low_margin_px` turns it off.
+/// lower tercile lies a few tenths of a pixel below the mean and the mean's test decides (its
+/// effect on the synthetic population of `tests/pli_accuracy_test.cpp`: docs/accuracy-log.md).
+/// Windows whose `diameter_low_mm` is 0 (not measured) skip this test; a negative
+/// `low_margin_px` turns it off.
 struct diameter_range {
   static constexpr std::string_view name = "diameter";
   static constexpr std::string_view unit = "mm";
@@ -54,7 +55,8 @@ struct diameter_range {
   }
   [[nodiscard]] status validate() const noexcept {
     if (!detail::finite_non_negative(min_mm) || !detail::finite_non_negative(max_mm) ||
-        !detail::finite_non_negative(margin_px) || !(std::abs(low_margin_px) <= 3.4e38f))
+        !detail::finite_non_negative(margin_px) ||
+        !(std::abs(low_margin_px) <= std::numeric_limits<float>::max()))
       return fail(errc::invalid_parameter, "diameter_range");
     if (min_mm > max_mm) return fail(errc::range_inverted, "diameter_range");
     return {};
@@ -291,7 +293,8 @@ inline constexpr float standard_gravity = 9.80665f;
 /// σ = M·r/I = 4·F·L/(π·r³), F = m·g, M = F·L, I = π·r⁴/4.
 [[nodiscard]] inline float bending_stress_mpa(float mass_kg, float radius_mm,
                                               float lever_mm) noexcept {
-  if (!(radius_mm > 0)) return 3.4e38f;
+  // No cross-section: more than any modulus of rupture.
+  if (!(radius_mm > 0)) return std::numeric_limits<float>::max();
   const float force_n = mass_kg * standard_gravity;
   const float r_m = radius_mm / 1000.0f;
   const float sigma_pa =

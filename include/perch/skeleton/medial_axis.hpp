@@ -43,10 +43,11 @@ namespace perch {
 ///
 /// Guarantees: skeleton ⊆ mask; same 8-connected components and same holes (4-connected
 /// background components) as the mask; 8-connected and, by default, one pixel thin (no 2×2
-/// block of skeleton pixels); every skeleton pixel is an end pixel or not simple, so
-/// skeletonising the skeleton gives it back (idempotent); deterministic (ties: distance, then
-/// queue order). `dist2` only orders the peeling: any map gives a thin, topology-preserving
-/// result; values above the largest distance the image can hold are clamped.
+/// block of skeleton pixels, but where the mask leaves no room: `thinness::one_pixel`); every
+/// skeleton pixel is an end pixel or not simple, so skeletonising the skeleton gives it back
+/// (idempotent); deterministic (ties: distance, then queue order). `dist2` only orders the
+/// peeling: any map gives a thin, topology-preserving result; values above the largest
+/// distance the image can hold are clamped.
 /// Errors: view errors of the three views, `size_mismatch`, `image_too_large` for a strip so
 /// thin that its padded copy holds 2^31 pixels, `workspace_too_small` / `out_of_memory` from
 /// the workspace (needs `workspace_bytes(width, height)`).
@@ -58,8 +59,8 @@ struct medial_axis {
   /// Working images of at least this many pixels are peeled in a packed copy, two bytes per
   /// pixel holding its flags and its distance together: a neighbourhood's row then takes one
   /// cache line instead of two (flags and distances), which pays once the working set outgrows
-  /// the last-level cache (a 4000 × 3000 tree: 25 → 21 ms), while a smaller image is peeled
-  /// faster where it lies (the copy costs more than it saves). Same skeleton either way.
+  /// the last-level cache, while a smaller image is peeled faster where it lies (the copy costs
+  /// more than it saves; timings: docs/performance-log.md). Same skeleton either way.
   std::size_t packed_from = std::size_t{6} << 20;
 
   /// The largest squared distance a `width` × `height` image can hold: ((min + 1) / 2)².
@@ -274,7 +275,7 @@ struct medial_axis {
       // Fetched ahead (the runs a few rows down lie mostly under this one): the distances two
       // rows down, read by index, and the packed cells three rows down, first written from
       // two rows down. (Plain loops: with `prefetch_span` here this visitor was no longer
-      // inlined, and the pass took 1 ms more at 4000 × 3000.)
+      // inlined, and the pass was slower.)
       if (static_cast<std::size_t>(end + 3 * s + 1) < cells) {
         if constexpr (!Distances::copied)
           for (std::ptrdiff_t i = first + 2 * s; i < end + 2 * s; i += 16)
@@ -289,8 +290,8 @@ struct medial_axis {
         cell[end] = 0;
       }
       // The run's keys: copied or packed and their largest found first (loops the compiler
-      // vectorises), then counted (at 4000 × 3000 this pass takes 0.35 ms less than with one
-      // loop doing all). (Locals: a store to `fill` could change what a reference points at.)
+      // vectorises), then counted: faster on large images than one loop doing all. (Locals: a
+      // store to `fill` could change what a reference points at.)
       const std::ptrdiff_t n = end - first;
       const std::uint32_t c = cap;
       if (copy != nullptr)
@@ -323,8 +324,8 @@ struct medial_axis {
     if (img.runs != nullptr && cell != nullptr) {
       // From the run lists: the background above a run and the pixels covered above and
       // below are found from the runs of the rows next to it, without reading those rows
-      // (which, on an image large enough to be packed, are out of cache: at 4000 × 3000 this
-      // pass takes a third less; on a 1920 × 1080 byte image reading them is faster).
+      // (which, on an image large enough to be packed, are out of cache; on a byte image,
+      // small enough to stay in cache, reading them is faster).
       const std::span<const row_run> none{};
       for (int y = 0; y < img.height; ++y) {
         const std::ptrdiff_t row = img.index(0, y);

@@ -17,8 +17,11 @@ namespace perch {
 /// How thin a skeleton must be.
 enum class thinness : std::uint8_t {
   /// One pixel thin: after the method, a topology-preserving clean-up removes every 2×2 block
-  /// of skeleton pixels (deleting simple pixels, or re-routing a branch inside the mask where
-  /// four branches meet diagonally); components and holes stay as the method left them.
+  /// of skeleton pixels (deleting simple pixels, or re-routing a branch through mask pixels
+  /// next to the block where no block pixel is simple); components and holes stay as the
+  /// method left them. Topology comes first: a block stays only where the mask is hardly
+  /// wider than the skeleton around it and leaves no short re-route (noise masks), and some
+  /// masks have no thin subset with their topology at all (see `detail::remove_blocks`).
   one_pixel,
   /// Exactly the method's own output as its paper defines it (Zhang–Suen and Guo–Hall leave
   /// 2×2 blocks on most tree masks): for comparing with the papers and other libraries.

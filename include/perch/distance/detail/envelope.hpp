@@ -87,8 +87,8 @@ inline constexpr int window_reach_limit = 120;
 /// Runs whose reach (see `nearest_sites_window`) is at most this take the windowed search
 /// instead of the envelope: at most 2·reach + 1 steps per eight pixels (one per pixel without
 /// SSE2), fewer near the run's ends, against the envelope's few per pixel with a division
-/// estimate and unpredictable branches. (64 against 32: distance stage −1.36 ms at
-/// 4000 × 3000, −0.08 ms at 1920 × 1080; 80 to 120 no better.)
+/// estimate and unpredictable branches. 64 rather than 32 because it is faster on large frames;
+/// longer reaches gain nothing more (A/B timings: docs/performance-log.md).
 #if defined(__SSE2__)
 inline constexpr int window_reach_max = 64;
 #else

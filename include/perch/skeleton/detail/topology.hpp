@@ -343,7 +343,7 @@ inline void sweep_redundant(const padded_image& img, std::uint32_t* queue, std::
 /// the sequence keeps the 8-components of the skeleton and the 4-components of its complement
 /// (Rosenfeld, "Connectivity in digital pictures", J. ACM 17(1), 1970: deleting or adding a
 /// simple pixel is a homotopy, so a sequence of them is one too; T. Y. Kong and A. Rosenfeld,
-/// "Digital topology: introduction and survey", CVGIP 48(3), 1989, §5); it removes the block
+/// "Digital topology: introduction and survey", CVGIP 48(3), 1989); it removes the block
 /// and creates none, so the clean-up still terminates. Typical sequence: where a branch runs
 /// into a corner pixel p whose four 4-neighbours are skeleton pixels, add the mask pixel in the
 /// crook of the branch, delete the branch's pixel next to p, then p.
@@ -437,9 +437,9 @@ struct block_reroute {
 /// result is again irreducible.
 /// Returns the number of blocks left: 0 unless the mask is hardly wider than the skeleton
 /// around a block (noise masks). Some masks have no thin subset with their topology at all:
-/// four one-pixel holes around a 2×2 block, each enclosed by a diamond of mask pixels through
-/// a corner of the block, need the whole block (any pixel taken out of it is a new hole).
-/// `queue` must have room for every pixel.
+/// four one-pixel holes diagonally round a 2×2 block, each closed by its four 4-neighbours
+/// and nothing more, force those neighbours, and any pixel taken out of the block is then a
+/// new hole. `queue` must have room for every pixel.
 inline std::size_t remove_blocks(const padded_image& img, image_view<const std::uint8_t> mask,
                                  image_view<const std::uint32_t> dist2,
                                  std::uint32_t* queue) noexcept {
