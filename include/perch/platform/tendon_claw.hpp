@@ -25,17 +25,30 @@ namespace perch {
 ///  - every other limb thicker than a 20 mm twig is at least 70 mm (the claw's reach as it
 ///    closes) from its surface (`clearance`).
 /// Ranked by paper eq. 3 with λ_slope 0.8, λ_diameter 0.2.
+/// The drone's numbers are written once, in `geometry` and the constants below; the constraints
+/// and the scorer are built from them.
 struct tendon_claw {
   static constexpr std::string_view name = "tendon-claw";
-  platform_geometry geometry{};
+  static constexpr float max_slope_deg = 35.0f;  ///< steepest limb the claw holds on
+  static constexpr float claw_reach_mm = 70.0f;  ///< how far the fingers sweep round the limb
+  platform_geometry geometry{.drone_width_mm = 180.0f, .claw_width_mm = 70.0f, .mass_kg = 1.5f,
+                             .grasp_min_mm = 30.0f, .grasp_max_mm = 110.0f};
   all_of<supported, image_border, diameter_range, resolved_diameter, max_slope, max_bend,
          max_curvature, monotonic, bending_stress, clearance>
-      constraints{supported{},       image_border{3.0f},
-                  diameter_range{30.0f, 110.0f, 0.0f}, resolved_diameter{30.0f, 110.0f, 1.5f},
-                  max_slope{35.0f},  max_bend{20.0f},
-                  max_curvature{},   monotonic{},
-                  bending_stress{1.5f}, clearance{70.0f}};
-  pli_penalty scorer{};
+      constraints{supported{},
+                  image_border{3.0f},
+                  diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm, 0.0f},
+                  resolved_diameter{geometry.grasp_min_mm, geometry.grasp_max_mm, 1.5f},
+                  max_slope{max_slope_deg},
+                  max_bend{20.0f},
+                  max_curvature{},
+                  monotonic{},
+                  bending_stress{geometry.mass_kg},
+                  clearance{claw_reach_mm}};
+  pli_penalty scorer{.slope_max_deg = max_slope_deg,
+                     .diameter_min_mm = geometry.grasp_min_mm,
+                     .diameter_max_mm = geometry.grasp_max_mm,
+                     .ideal_diameter_mm = geometry.grasp_min_mm};
 };
 
 }  // namespace perch
