@@ -421,7 +421,7 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
                       *grounded, *component_area);
   for (std::size_t l = 0; l < out.limbs.size(); ++l)
     (*stretches)[l] = limb_stretch(graph, *next, out.limbs[l]);
-  auto obstacles = find_limb_obstacles(graph, out.limbs, *next, *stretches, tree_mask,
+  auto obstacles = find_limb_obstacles(graph, out.limbs, *next, *stretches,
                                        image_view<const std::uint8_t>(skeleton),
                                        image_view<const std::uint32_t>(dist), detail::runs_of(listed, skeleton),
                                        mm_per_px, ws, options.obstacles);

@@ -53,7 +53,7 @@ void analyse(surroundings& s, const image<std::uint8_t>& mask, float mm_per_px =
   s.stretches.clear();
   for (const perch::skeleton_limb& l : s.found().limbs) s.stretches.push_back(perch::limb_stretch(graph, s.next, l));
   auto obstacles = perch::find_limb_obstacles(graph, s.found().limbs, s.next, s.stretches,
-                                              perch::image_view<const std::uint8_t>(s.found().mask.pixels), s.found().skeleton, s.found().dist2, nullptr,
+                                              s.found().skeleton, s.found().dist2, nullptr,
                                               s.found().mm_per_px, s.own_ws, options);
   REQUIRE(obstacles);
   s.obstacles = *obstacles;
@@ -400,12 +400,12 @@ TEST_CASE("limb_surroundings: a too-small borrowed workspace is a status") {
   perch::workspace small{std::span<std::byte>(buffer)};
   auto obstacles =
       perch::find_limb_obstacles(s.found().graph, s.found().limbs, s.next, s.stretches,
-                                 perch::image_view<const std::uint8_t>(s.found().mask.pixels), s.found().skeleton, s.found().dist2, nullptr, 2.0f, small);
+                                 s.found().skeleton, s.found().dist2, nullptr, 2.0f, small);
   REQUIRE(!obstacles);
   CHECK(obstacles.error().code == perch::errc::workspace_too_small);
   // The size query is enough.
   std::vector<std::byte> enough(bytes + perch::workspace::alignment);
   perch::workspace fits{std::span<std::byte>(enough)};
   CHECK(perch::find_limb_obstacles(s.found().graph, s.found().limbs, s.next, s.stretches,
-                                   perch::image_view<const std::uint8_t>(s.found().mask.pixels), s.found().skeleton, s.found().dist2, nullptr, 2.0f, fits));
+                                   s.found().skeleton, s.found().dist2, nullptr, 2.0f, fits));
 }

@@ -53,16 +53,17 @@ struct limb_obstacles {
 };
 
 /// Bytes of workspace `find_limb_obstacles` takes at most (a disc per skeleton pixel, and one
-/// at each end of a limb for the limbs leaving it there, in two indexes).
+/// at each end of a limb for the limbs leaving it there).
 [[nodiscard]] inline std::size_t limb_obstacles_workspace_bytes(std::size_t limbs,
                                                                 std::size_t skeleton_pixels,
                                                                 int width, int height) noexcept {
   const std::size_t discs = skeleton_pixels + 2 * limbs;
-  std::size_t slots = 16;  // detail::pixel_set_slots(skeleton_pixels)
+  std::size_t slots = 16;  // detail::pixel_map_slots(skeleton_pixels)
   while (slots < 2 * skeleton_pixels) slots *= 2;
-  return workspace::footprint<owner_set>(limbs) + 2 * workspace::footprint<owned_disc>(discs) +
-         workspace::footprint<std::uint32_t>(slots) +
-         2 * disc_index::workspace_bytes(discs, width, height);
+  return workspace::footprint<owner_set>(limbs) + workspace::footprint<owned_disc>(discs) +
+         2 * workspace::footprint<std::uint32_t>(slots) +
+         2 * workspace::footprint<pixel>(skeleton_pixels) +
+         disc_index::workspace_bytes(discs, width, height);
 }
 
 /// The owner of a disc that belongs to no limb: an obstacle to every limb.
@@ -144,58 +145,42 @@ struct junction_caps {
   return out;
 }
 
-/// Slots of a `pixel_set` for `n` pixels: a power of two, at least twice `n`.
-[[nodiscard]] constexpr std::size_t pixel_set_slots(std::size_t n) noexcept {
+/// Slots of a `pixel_map` for `n` pixels: a power of two, at least twice `n`.
+[[nodiscard]] constexpr std::size_t pixel_map_slots(std::size_t n) noexcept {
   std::size_t slots = 16;
   while (slots < 2 * n) slots *= 2;
   return slots;
 }
 
-/// A set of pixels of a `width`-wide frame in zeroed workspace slots (`pixel_set_slots`): open
-/// addressing with linear probing, key y·width + x + 1 (0 marks an empty slot).
-struct pixel_set {
-  std::span<std::uint32_t> slots;
+/// A map from pixels of a `width`-wide frame to indexes, in zeroed workspace slots
+/// (`pixel_map_slots` of each): open addressing with linear probing, key y·width + x + 1 (0
+/// marks an empty slot).
+struct pixel_map {
+  std::span<std::uint32_t> keys;
+  std::span<std::uint32_t> values;
   int width = 0;
   [[nodiscard]] std::uint32_t key(pixel p) const noexcept {
     return static_cast<std::uint32_t>(p.y) * static_cast<std::uint32_t>(width) +
            static_cast<std::uint32_t>(p.x) + 1u;
   }
-  [[nodiscard]] std::size_t home(std::uint32_t k) const noexcept {
-    return static_cast<std::size_t>(k * 0x9E3779B1u) & (slots.size() - 1);  // Fibonacci hashing
-  }
-  void insert(pixel p) const noexcept {
+  [[nodiscard]] std::size_t slot(pixel p) const noexcept {
     const std::uint32_t k = key(p);
-    for (std::size_t i = home(k);; i = (i + 1) & (slots.size() - 1)) {
-      if (slots[i] == k) return;
-      if (slots[i] == 0) {
-        slots[i] = k;
-        return;
-      }
-    }
+    std::size_t i = static_cast<std::size_t>(k * 0x9E3779B1u) & (keys.size() - 1);  // Fibonacci
+    while (keys[i] != 0 && keys[i] != k) i = (i + 1) & (keys.size() - 1);
+    return i;
   }
-  [[nodiscard]] bool contains(pixel p) const noexcept {
-    const std::uint32_t k = key(p);
-    for (std::size_t i = home(k);; i = (i + 1) & (slots.size() - 1)) {
-      if (slots[i] == k) return true;
-      if (slots[i] == 0) return false;
-    }
+  void insert(pixel p, std::uint32_t value) const noexcept {
+    const std::size_t i = slot(p);
+    keys[i] = key(p);
+    values[i] = value;
+  }
+  /// The value of `p`, or `absent`.
+  static constexpr std::uint32_t absent = 0xFFFFFFFFu;
+  [[nodiscard]] std::uint32_t find(pixel p) const noexcept {
+    const std::size_t i = slot(p);
+    return keys[i] != 0 ? values[i] : absent;
   }
 };
-
-/// Whether every pixel on the straight line from `a` to `b` (sampled every half pixel, nearest
-/// pixel) is tree in `mask`.
-[[nodiscard]] inline bool tree_between(image_view<const std::uint8_t> mask, point2f a,
-                                       point2f b) noexcept {
-  const float length = (b - a).norm();
-  const int steps = static_cast<int>(std::ceil(2.0f * length));
-  for (int k = 0; k <= steps; ++k) {
-    const point2f q = steps > 0 ? point2f(a + (b - a) * (static_cast<float>(k) / static_cast<float>(steps))) : a;
-    const int x = static_cast<int>(std::lround(q.x()));
-    const int y = static_cast<int>(std::lround(q.y()));
-    if (x < 0 || y < 0 || x >= mask.width() || y >= mask.height() || mask(x, y) == 0) return false;
-  }
-  return true;
-}
 
 }  // namespace detail
 
@@ -206,11 +191,12 @@ struct pixel_set {
 ///    nearest background pixel centre, half a pixel beyond the outline), capped beside the
 ///    junctions at its ends (`detail::caps_of`);
 ///  - a disc per other pixel of `skeleton` (`dist2` its squared distances): the spurs pruning
-///    took off (a bump of the outline, the stub of a limb hugging its parent), owned by the
-///    nearest limb point it sees through the tree (the straight line between them on `mask`'s
-///    tree pixels: a spur belongs to the body it grows from, not to a limb across a gap), and
-///    no wider than that point's disc. The mask keeps what pruning drops from the graph, and a
-///    claw meets the mask;
+///    took off (a bump of the outline, the stub of a limb hugging its parent) and the junctions'
+///    own pixels, owned by the limb they hang from along the skeleton (a breadth-first walk
+///    from the limbs' points: a spur belongs to the body it grows from, not to a limb across a
+///    gap), and no wider than the limb point they hang from. The mask keeps what pruning drops
+///    from the graph, and a claw meets the mask. A piece of skeleton joined to no limb (a blob
+///    pruning took whole) is everyone's obstacle;
 ///  - at each end of a limb at a junction, a disc for the limbs leaving it there
 ///    (`detail::junction_disc`).
 /// Discs thinner than a twig (`obstacle_options`) are left out.
@@ -219,27 +205,39 @@ struct pixel_set {
 [[nodiscard]] inline result<limb_obstacles> find_limb_obstacles(
     const skeleton_graph& graph, std::span<const skeleton_limb> limbs,
     std::span<const std::int32_t> next, std::span<const branch_stretch> stretches,
-    image_view<const std::uint8_t> mask, image_view<const std::uint8_t> skeleton,
-    image_view<const std::uint32_t> dist2, const row_runs* runs, float mm_per_px, workspace& ws,
+    image_view<const std::uint8_t> skeleton, image_view<const std::uint32_t> dist2,
+    const row_runs* runs, float mm_per_px, workspace& ws,
     const obstacle_options& options = {}) noexcept {
   PERCH_ASSERT(stretches.size() == limbs.size(), "find_limb_obstacles: stretches");
   const int width = skeleton.width();
   const int height = skeleton.height();
   std::size_t points = 0;
   for (const skeleton_limb& l : limbs) points += l.points.size();
-  const std::size_t total = std::max(points, detail::count_set_pixels(skeleton, runs)) + 2 * limbs.size();
+  const std::size_t pixels = std::max(points, detail::count_set_pixels(skeleton, runs));
+  const std::size_t total = pixels + 2 * limbs.size();
+  const std::size_t slots = detail::pixel_map_slots(pixels);
   auto own = ws.allocate<owner_set>(limbs.size());
-  auto limb_discs = ws.allocate<owned_disc>(points);
   auto discs = ws.allocate<owned_disc>(total);
-  auto listed_points = ws.allocate_zeroed<std::uint32_t>(detail::pixel_set_slots(points));
+  auto keys = ws.allocate_zeroed<std::uint32_t>(slots);
+  auto values = ws.allocate<std::uint32_t>(slots);
+  auto walk = ws.allocate<pixel>(pixels);   // the pixels not on a limb
+  auto queue = ws.allocate<pixel>(pixels);  // the breadth-first walk's queue
   if (!own) return unexpected{own.error()};
-  if (!limb_discs) return unexpected{limb_discs.error()};
   if (!discs) return unexpected{discs.error()};
-  if (!listed_points) return unexpected{listed_points.error()};
-  const detail::pixel_set on_limb{*listed_points, width};
+  if (!keys) return unexpected{keys.error()};
+  if (!values) return unexpected{values.error()};
+  if (!walk) return unexpected{walk.error()};
+  if (!queue) return unexpected{queue.error()};
+  // Limb points, then the skeleton's other pixels (`pending`), mapped to their discs.
+  const detail::pixel_map disc_of{*keys, *values, width};
+  constexpr std::uint32_t pending = detail::pixel_map::absent - 1;
   // A disc of distance-map radius r stands for a width of about 2·r − 1 px.
   const float min_radius_px = 0.5f * (options.twig_max_mm / mm_per_px - options.uncertainty_px) + 0.5f;
-  std::size_t count = 0, listed = 0;
+  std::size_t count = 0;
+  auto place = [&](pixel p, float radius, std::int32_t owner) {
+    (*discs)[count] = {static_cast<float>(p.x), static_cast<float>(p.y), radius, owner};
+    disc_of.insert(p, static_cast<std::uint32_t>(count++));
+  };
   for (std::size_t l = 0; l < limbs.size(); ++l) {
     const skeleton_limb& limb = limbs[l];
     const bool closed = next[limb.first_end] >= 0;
@@ -250,42 +248,79 @@ struct pixel_set {
       float r = limb.radius_px[i];
       if ((p - caps.front_node).squaredNorm() <= caps.front_reach2) r = std::min(r, caps.front_radius);
       if ((p - caps.back_node).squaredNorm() <= caps.back_reach2) r = std::min(r, caps.back_radius);
-      (*limb_discs)[listed++] = {p.x(), p.y(), r, static_cast<std::int32_t>(l)};
-      on_limb.insert(limb.points[i]);
-      if (r >= min_radius_px) (*discs)[count++] = {p.x(), p.y(), r - 0.5f, static_cast<std::int32_t>(l)};
+      if (count < total && disc_of.find(limb.points[i]) == detail::pixel_map::absent)
+        place(limb.points[i], r, static_cast<std::int32_t>(l));
     }
-    // The limbs leaving it at the junctions at its ends, from the fork on.
+  }
+  std::size_t unplaced = 0;  // the other pixels, listed in `walk`
+  detail::for_each_skeleton_pixel(skeleton, runs, [&](int x, int y) {
+    if (disc_of.find({x, y}) != detail::pixel_map::absent || unplaced == pixels) return;
+    disc_of.insert({x, y}, pending);
+    (*walk)[unplaced++] = {x, y};
+  });
+  // A breadth-first walk from the limbs through the other pixels: each takes the owner of the
+  // placed neighbour it is reached from, and no more than its radius. First those next to a
+  // limb point, then on along the spurs.
+  auto inside = [&](pixel q) { return q.x >= 0 && q.y >= 0 && q.x < width && q.y < height; };
+  auto placed_neighbour = [&](pixel p) -> const owned_disc* {
+    for (const pixel d : neighbours8) {
+      const pixel q{p.x + d.x, p.y + d.y};
+      if (!inside(q)) continue;
+      const std::uint32_t v = disc_of.find(q);
+      if (v < pending) return &(*discs)[v];
+    }
+    return nullptr;
+  };
+  std::size_t queued = 0;
+  auto reach = [&](pixel q, const owned_disc& from) {
+    place(q, std::min(std::sqrt(static_cast<float>(dist2(q.x, q.y))), from.radius), from.owner);
+    (*queue)[queued++] = q;
+  };
+  for (std::size_t k = 0; k < unplaced && count < total; ++k) {
+    const pixel p = (*walk)[k];
+    if (disc_of.find(p) != pending) continue;
+    if (const owned_disc* from = placed_neighbour(p)) {
+      const owned_disc parent = *from;
+      reach(p, parent);
+    }
+  }
+  for (std::size_t head = 0; head < queued && count < total; ++head) {
+    const pixel from = (*queue)[head];
+    const owned_disc parent = (*discs)[disc_of.find(from)];
+    for (const pixel d : neighbours8) {
+      const pixel q{from.x + d.x, from.y + d.y};
+      if (count < total && inside(q) && disc_of.find(q) == pending) reach(q, parent);
+    }
+  }
+  // What the walk never reached: pieces of skeleton with no limb.
+  for (std::size_t k = 0; k < unplaced && count < total; ++k) {
+    const pixel p = (*walk)[k];
+    if (disc_of.find(p) == pending)
+      place(p, std::sqrt(static_cast<float>(dist2(p.x, p.y))), unowned_disc);
+  }
+  std::size_t kept = 0;
+  // Obstacles: the discs at least a twig thick, less ½ px.
+  for (std::size_t i = 0; i < count; ++i)
+    if ((*discs)[i].radius >= min_radius_px) {
+      owned_disc d = (*discs)[i];
+      d.radius -= 0.5f;
+      (*discs)[kept++] = d;
+    }
+  count = kept;
+  // The limbs leaving each limb at the junctions at its ends, from the fork on.
+  for (std::size_t l = 0; l < limbs.size(); ++l) {
+    const skeleton_limb& limb = limbs[l];
     const branch_stretch s = stretches[l];
-    if (closed || s.count == 0) continue;
+    if (next[limb.first_end] >= 0 || s.count == 0) continue;
     for (const bool front : {true, false}) {
       const std::size_t i = front ? s.first : s.first + s.count - 1;
       owned_disc d = detail::junction_disc(graph, limb, front ? limb.first_end : limb.last_end,
                                            front, limb.points[i], limb.radius_px[i]);
-      if (d.radius < min_radius_px) continue;
+      if (d.radius < min_radius_px || count >= total) continue;
       d.radius -= 0.5f;
       (*discs)[count++] = d;
     }
   }
-  // The skeleton's other pixels, owned by the nearest limb point.
-  auto by_limb = disc_index::build(std::span<const owned_disc>(*limb_discs).first(listed), width, height, ws);
-  if (!by_limb) return unexpected{by_limb.error()};
-  const auto frame = static_cast<float>(std::max(width, height));
-  detail::for_each_skeleton_pixel(skeleton, runs, [&](int x, int y) {
-    const point2f p(static_cast<float>(x), static_cast<float>(y));
-    if (count >= total || on_limb.contains({x, y})) return;
-    auto seen_through_tree = [&](const owned_disc& d) {
-      return detail::tree_between(mask, p, point2f(d.x, d.y));
-    };
-    // Pruned pixels lie next to their limb: the nearest limb point, when the tree joins them
-    // (nearly always); else the nearest that it does, looked for near first, then farther.
-    const owned_disc* nearest = by_limb->nearest_centre(p, 8.0f);
-    if (nearest != nullptr && !seen_through_tree(*nearest)) nearest = nullptr;
-    for (float reach = 8.0f; nearest == nullptr && reach < 2.0f * frame; reach *= 4.0f)
-      nearest = by_limb->nearest_centre_if(p, reach, seen_through_tree);
-    if (nearest == nullptr) return;
-    const float r = std::min(std::sqrt(static_cast<float>(dist2(x, y))), nearest->radius);
-    if (r >= min_radius_px) (*discs)[count++] = {p.x(), p.y(), r - 0.5f, nearest->owner};
-  });
   auto index = disc_index::build(std::span<const owned_disc>(*discs).first(count), width, height, ws);
   if (!index) return unexpected{index.error()};
   return limb_obstacles{*index, *own};
