@@ -39,19 +39,23 @@ struct collar_fit {
 };
 
 /// The platform: geometry, a pack of constraints (perch's and ours), one scorer.
-struct sleeve_gripper {
+struct sleeve_gripper {  // each number written once: the parts are built from them
   static constexpr std::string_view name = "sleeve-gripper";
+  static constexpr float max_slope_deg = 30.0f;
   perch::platform_geometry geometry{.drone_width_mm = 220.0f, .claw_width_mm = 80.0f,
                                     .mass_kg = 1.2f, .grasp_min_mm = 25.0f,
                                     .grasp_max_mm = 80.0f};
   perch::all_of<perch::diameter_range, perch::max_slope, perch::monotonic, uniform_diameter,
                 perch::bending_stress>
-      constraints{perch::diameter_range{25.0f, 80.0f}, perch::max_slope{30.0f},
-                  perch::monotonic{}, uniform_diameter{}, perch::bending_stress{.mass_kg = 1.2f}};
+      constraints{perch::diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm},
+                  perch::max_slope{max_slope_deg}, perch::monotonic{}, uniform_diameter{},
+                  perch::bending_stress{.mass_kg = geometry.mass_kg}};
   perch::weighted_sum<perch::pli_penalty, collar_fit> scorer{
       .weights = {0.6f, 0.4f},
-      .parts = {perch::pli_penalty{.slope_max_deg = 30.0f, .diameter_min_mm = 25.0f,
-                                   .diameter_max_mm = 80.0f, .ideal_diameter_mm = 25.0f},
+      .parts = {perch::pli_penalty{.slope_max_deg = max_slope_deg,
+                                   .diameter_min_mm = geometry.grasp_min_mm,
+                                   .diameter_max_mm = geometry.grasp_max_mm,
+                                   .ideal_diameter_mm = geometry.grasp_min_mm},
                 collar_fit{}}};
 };
 static_assert(perch::Platform<sleeve_gripper>);

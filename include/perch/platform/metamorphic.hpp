@@ -14,15 +14,18 @@ namespace perch {
 /// the arms' clamping range. Sizes are illustrative defaults: set them from your airframe.
 struct metamorphic_quadrotor {
   static constexpr std::string_view name = "metamorphic";
+  static constexpr float max_slope_deg = 20.0f;
   platform_geometry geometry{.drone_width_mm = 300.0f, .claw_width_mm = 120.0f, .mass_kg = 1.2f,
                              .grasp_min_mm = 25.0f, .grasp_max_mm = 90.0f};
   all_of<diameter_range, max_slope, max_curvature, monotonic, bending_stress, free_space_above>
-      constraints{diameter_range{25.0f, 90.0f}, max_slope{20.0f}, max_curvature{}, monotonic{},
-                  bending_stress{1.2f},
+      constraints{diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm},
+                  max_slope{max_slope_deg}, max_curvature{}, monotonic{},
+                  bending_stress{geometry.mass_kg},
                   free_space_above{.width_mm = 300.0f, .height_mm = 200.0f, .max_share = 0.02f}};
-  pli_penalty scorer{.lambda_slope = 0.8f, .lambda_diameter = 0.2f, .slope_max_deg = 20.0f,
-                     .diameter_min_mm = 25.0f, .diameter_max_mm = 90.0f,
-                     .ideal_diameter_mm = 25.0f};
+  pli_penalty scorer{.lambda_slope = 0.8f, .lambda_diameter = 0.2f, .slope_max_deg = max_slope_deg,
+                     .diameter_min_mm = geometry.grasp_min_mm,
+                     .diameter_max_mm = geometry.grasp_max_mm,
+                     .ideal_diameter_mm = geometry.grasp_min_mm};
 };
 
 }  // namespace perch

@@ -15,15 +15,18 @@ namespace perch {
 /// illustrative defaults: set them from your airframe.
 struct ornithopter {
   static constexpr std::string_view name = "ornithopter";
+  static constexpr float max_slope_deg = 15.0f;
   platform_geometry geometry{.drone_width_mm = 200.0f, .claw_width_mm = 60.0f, .mass_kg = 0.7f,
                              .grasp_min_mm = 40.0f, .grasp_max_mm = 100.0f};
   all_of<diameter_range, max_slope, max_curvature, monotonic, bending_stress, free_space_above>
-      constraints{diameter_range{40.0f, 100.0f}, max_slope{15.0f}, max_curvature{}, monotonic{},
-                  bending_stress{.mass_kg = 0.7f, .load_factor = 3.0f},
+      constraints{diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm},
+                  max_slope{max_slope_deg}, max_curvature{}, monotonic{},
+                  bending_stress{.mass_kg = geometry.mass_kg, .load_factor = 3.0f},
                   free_space_above{.width_mm = 1500.0f, .height_mm = 300.0f, .max_share = 0.03f}};
-  pli_penalty scorer{.lambda_slope = 0.9f, .lambda_diameter = 0.1f, .slope_max_deg = 15.0f,
-                     .diameter_min_mm = 40.0f, .diameter_max_mm = 100.0f,
-                     .ideal_diameter_mm = 40.0f};
+  pli_penalty scorer{.lambda_slope = 0.9f, .lambda_diameter = 0.1f, .slope_max_deg = max_slope_deg,
+                     .diameter_min_mm = geometry.grasp_min_mm,
+                     .diameter_max_mm = geometry.grasp_max_mm,
+                     .ideal_diameter_mm = geometry.grasp_min_mm};
 };
 
 }  // namespace perch

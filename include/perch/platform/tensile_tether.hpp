@@ -17,14 +17,17 @@ namespace perch {
 /// from your airframe. Ranked by eq. 3 over the same criteria, preferring level branches.
 struct tensile_tether {
   static constexpr std::string_view name = "tensile-tether";
+  static constexpr float max_slope_deg = 40.0f;
   platform_geometry geometry{.drone_width_mm = 150.0f, .claw_width_mm = 50.0f, .mass_kg = 1.0f,
                              .grasp_min_mm = 20.0f, .grasp_max_mm = 400.0f};
   all_of<diameter_range, max_slope, max_curvature, bending_stress, free_circle> constraints{
-      diameter_range{20.0f, 400.0f}, max_slope{40.0f}, max_curvature{}, bending_stress{1.0f},
+      diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm}, max_slope{max_slope_deg},
+      max_curvature{}, bending_stress{geometry.mass_kg},
       free_circle{.radius_mm = 500.0f, .max_share = 0.02f}};
-  pli_penalty scorer{.lambda_slope = 0.7f, .lambda_diameter = 0.3f, .slope_max_deg = 40.0f,
-                     .diameter_min_mm = 20.0f, .diameter_max_mm = 400.0f,
-                     .ideal_diameter_mm = 20.0f};
+  pli_penalty scorer{.lambda_slope = 0.7f, .lambda_diameter = 0.3f, .slope_max_deg = max_slope_deg,
+                     .diameter_min_mm = geometry.grasp_min_mm,
+                     .diameter_max_mm = geometry.grasp_max_mm,
+                     .ideal_diameter_mm = geometry.grasp_min_mm};
 };
 
 }  // namespace perch

@@ -14,14 +14,18 @@ namespace perch {
 /// Sizes are illustrative defaults: set them from your airframe.
 struct treecreeper {
   static constexpr std::string_view name = "treecreeper";
+  static constexpr float min_slope_deg = 70.0f;
   platform_geometry geometry{.drone_width_mm = 250.0f, .claw_width_mm = 100.0f, .mass_kg = 1.5f,
                              .grasp_min_mm = 100.0f, .grasp_max_mm = 600.0f};
   all_of<diameter_range, min_slope, max_curvature, monotonic> constraints{
-      diameter_range{100.0f, 600.0f}, min_slope{70.0f}, max_curvature{.max_per_mm = 1.0f / 400.0f},
+      diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm}, min_slope{min_slope_deg},
+      max_curvature{.max_per_mm = 1.0f / 400.0f},
       monotonic{}};
-  pli_penalty scorer{.lambda_slope = 0.6f, .lambda_diameter = 0.4f, .slope_min_deg = 70.0f,
-                     .slope_max_deg = 90.0f, .ideal_slope_deg = 90.0f, .diameter_min_mm = 100.0f,
-                     .diameter_max_mm = 600.0f, .ideal_diameter_mm = 600.0f};
+  pli_penalty scorer{.lambda_slope = 0.6f, .lambda_diameter = 0.4f, .slope_min_deg = min_slope_deg,
+                     .slope_max_deg = 90.0f, .ideal_slope_deg = 90.0f,
+                     .diameter_min_mm = geometry.grasp_min_mm,
+                     .diameter_max_mm = geometry.grasp_max_mm,
+                     .ideal_diameter_mm = geometry.grasp_max_mm};
 };
 
 }  // namespace perch
