@@ -160,8 +160,8 @@ template <ScalePolicy Scale>
   }
 }
 
-/// Every limb's `limb_neighbourhood` (its points, radii, owner set and an empty gap cache),
-/// for `limb_clearance`.
+/// Every limb's `limb_neighbourhood` (its points, radii, the owners it leaves out and an empty
+/// gap cache), for `limb_clearance`.
 [[nodiscard]] inline result<std::span<const limb_neighbourhood>> limb_neighbourhoods(
     std::span<const skeleton_limb> limbs, std::span<const owner_set> own, workspace& ws) noexcept {
   std::size_t total = 0;

@@ -14,7 +14,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <limits>
 #include <span>
 
 #include "perch/analysis/measures.hpp"
@@ -107,8 +106,7 @@ struct region_share {
 };
 
 /// One limb as `limb_clearance` reads it: its centreline, radii (distance map, px), the owners
-/// its clearance leaves out (itself and the limbs continuing it), and a cache of one gap per
-/// point (`limb_clearance::cache_floats`).
+/// its clearance leaves out (the limb's own discs), and a cache of one gap per point.
 struct limb_neighbourhood {
   std::span<const pixel> points{};
   std::span<const float> radius_px{};

@@ -197,12 +197,13 @@ inline void curvature_profile(std::span<const pixel> points, std::span<float> cu
 }
 
 /// Unit tangent of a centreline at every point, oriented from the first point to the last: the
-/// principal axis (orthogonal least squares, closed form as in `fitted_slope_deg`) of the points
-/// within arc length h of it, h = max(its radius, `min_half_arc_px`), the stretch clipped at
-/// the polyline's ends. Over about a radius a limb's axis is straight, while a skeleton's
+/// principal axis (orthogonal least squares: the scatter matrix's leading eigenvector, in closed
+/// form) of the points within arc length h of it, h = max(its radius, `min_half_arc_px`), the
+/// stretch clipped at the polyline's ends. Over about a radius a limb's axis is straight, while a skeleton's
 /// pixel steps turn by 45° at a time and a bulge of the outline (a fork's crotch) shifts only a
 /// few of its points: the fit reads the limb, not the pixels.
-/// `arc_px` from `arc_lengths`; all spans have `points.size()` entries. Complexity O(n · h).
+/// `arc_px` from `arc_lengths`; all spans have `points.size()` entries. Complexity O(n): the
+/// sums slide along with the stretch.
 inline void tangent_profile(std::span<const pixel> points, std::span<const float> arc_px,
                             std::span<const float> radius_px, std::span<float> tangent_x,
                             std::span<float> tangent_y, float min_half_arc_px = 4.0f) noexcept {

@@ -101,17 +101,18 @@ template <ScalePolicy Scale>
   tangent_profile(branch.points, arc, branch.radius_px, tangent_x, tangent_y);
   bend_profile(arc, tangent_x, tangent_y, 0.5f * options.drone_width_mm / global_mm_per_px, bend);
   const point2f h = options.camera.horizon();
-  // Each point's slope, once (windows overlap): kept in tangent_x, no longer needed.
+  // Each point's slope and the gap between its outline and the frame's edge (px), once
+  // (windows overlap), in the tangents' place, which nothing reads after this.
   std::span<float> slope = tangent_x;
-  for (std::size_t i = 0; i < n; ++i)
-    slope[i] = slope_to_horizon_deg(point2f(tangent_x[i], tangent_y[i]), h);
-  // The gap between the outline at point i and the frame's edge (px).
+  std::span<float> border_gap = tangent_y;
   const bool framed = branch.frame_width > 0 && branch.frame_height > 0;
-  auto border_gap = [&](std::size_t i) {
+  for (std::size_t i = 0; i < n; ++i) {
+    slope[i] = slope_to_horizon_deg(point2f(tangent_x[i], tangent_y[i]), h);
     const pixel p{branch.points[i].x + branch.offset.x, branch.points[i].y + branch.offset.y};
     const int edge = std::min({p.x, p.y, branch.frame_width - 1 - p.x, branch.frame_height - 1 - p.y});
-    return static_cast<float>(edge) - branch.radius_px[i];
-  };
+    border_gap[i] = framed ? static_cast<float>(edge) - branch.radius_px[i]
+                           : std::numeric_limits<float>::max();
+  }
   const float total_px = arc[n - 1];
 
   // Origin end, in local coordinates, and arc length measured from it.
@@ -184,7 +185,7 @@ template <ScalePolicy Scale>
       kmax = std::max(kmax, std::abs(kappa[i]));
       slope_max = std::max(slope_max, slope[i]);
       bend_max = std::max(bend_max, bend[i]);
-      if (framed) border = std::min(border, border_gap(i));
+      border = std::min(border, border_gap[i]);
       ksum += std::abs(kappa[i]);
       const float d = diameter_at(i);
       dmin = std::min(dmin, d);

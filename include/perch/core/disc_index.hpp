@@ -5,7 +5,7 @@
 /// A medial axis with its radii is a union of discs that reconstructs the shape (Blum 1967), so
 /// the distance from a point to the surface of a set of limbs is the smallest |p − c| − r over
 /// their skeleton's discs: `find_perch` measures a window's clearance from every other limb this
-/// way, with the discs of the skeleton graph's limbs (see `graph/limb_discs.hpp`).
+/// way, with the discs of the skeleton graph's limbs (see `graph/limb_surroundings.hpp`).
 #pragma once
 
 #include <algorithm>
@@ -29,7 +29,7 @@ struct owned_disc {
   std::int32_t owner = -1;
 };
 
-/// Up to three owners a query leaves out (e.g. a limb and the limbs that continue it).
+/// Up to three owners a query leaves out (e.g. the limb whose clearance is asked; -1: none).
 struct owner_set {
   std::int32_t ids[3] = {-1, -1, -1};
   [[nodiscard]] constexpr bool contains(std::int32_t id) const noexcept {
@@ -123,43 +123,6 @@ class disc_index {
           const float ey = d.y - p.y();
           const float gap = std::sqrt(ex * ex + ey * ey) - d.radius;
           best = std::min(best, gap);
-        }
-      }
-    }
-    return best;
-  }
-
-  /// The disc whose centre is nearest to `p` (of those within `max_distance` of it), or null.
-  /// Complexity: the discs of the cells within that distance.
-  [[nodiscard]] const owned_disc* nearest_centre(point2f p, float max_distance) const noexcept {
-    return nearest_centre_if(p, max_distance, [](const owned_disc&) { return true; });
-  }
-
-  /// As `nearest_centre`, among the discs `accept(disc)` is true for (asked only of discs
-  /// nearer than the best so far).
-  template <class Accept>
-  [[nodiscard]] const owned_disc* nearest_centre_if(point2f p, float max_distance,
-                                                    Accept&& accept) const noexcept {
-    if (discs_.empty()) return nullptr;
-    const auto cell = static_cast<float>(cell_);
-    const int c0 = clamp_cell(std::floor((p.x() - max_distance) / cell), columns_);
-    const int c1 = clamp_cell(std::floor((p.x() + max_distance) / cell), columns_);
-    const int r0 = clamp_cell(std::floor((p.y() - max_distance) / cell), rows_);
-    const int r1 = clamp_cell(std::floor((p.y() + max_distance) / cell), rows_);
-    const owned_disc* best = nullptr;
-    float best2 = max_distance * max_distance;
-    for (int r = r0; r <= r1; ++r) {
-      for (int c = c0; c <= c1; ++c) {
-        const std::size_t k = static_cast<std::size_t>(r) * static_cast<std::size_t>(columns_) +
-                              static_cast<std::size_t>(c);
-        for (std::uint32_t i = start_[k]; i < start_[k + 1]; ++i) {
-          const float ex = discs_[i].x - p.x();
-          const float ey = discs_[i].y - p.y();
-          const float d2 = ex * ex + ey * ey;
-          if (d2 <= best2 && accept(discs_[i])) {
-            best2 = d2;
-            best = &discs_[i];
-          }
         }
       }
     }

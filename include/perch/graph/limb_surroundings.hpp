@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <numbers>
 #include <span>
 
 #include "perch/core/disc_index.hpp"
@@ -49,8 +48,18 @@ struct obstacle_options {
 /// Every limb's obstacle discs, and per limb the owners a clearance query leaves out (itself).
 struct limb_obstacles {
   disc_index discs{};
-  std::span<const owner_set> own{};  ///< per limb: itself and the limbs continuing it
+  std::span<const owner_set> own{};  ///< per limb: the owners its clearance leaves out (itself)
 };
+
+namespace detail {
+/// Slots of a `pixel_map` for `n` pixels: a power of two, at least twice `n`.
+[[nodiscard]] constexpr std::size_t pixel_map_slots(std::size_t n) noexcept {
+  std::size_t slots = 16;
+  while (slots < 2 * n) slots *= 2;
+  return slots;
+}
+
+}  // namespace detail
 
 /// Bytes of workspace `find_limb_obstacles` takes at most (a disc per skeleton pixel, and one
 /// at each end of a limb for the limbs leaving it there).
@@ -58,8 +67,7 @@ struct limb_obstacles {
                                                                 std::size_t skeleton_pixels,
                                                                 int width, int height) noexcept {
   const std::size_t discs = skeleton_pixels + 2 * limbs;
-  std::size_t slots = 16;  // detail::pixel_map_slots(skeleton_pixels)
-  while (slots < 2 * skeleton_pixels) slots *= 2;
+  const std::size_t slots = detail::pixel_map_slots(skeleton_pixels);
   return workspace::footprint<owner_set>(limbs) + workspace::footprint<owned_disc>(discs) +
          2 * workspace::footprint<std::uint32_t>(slots) +
          2 * workspace::footprint<pixel>(skeleton_pixels) +
@@ -145,13 +153,6 @@ struct junction_caps {
   return out;
 }
 
-/// Slots of a `pixel_map` for `n` pixels: a power of two, at least twice `n`.
-[[nodiscard]] constexpr std::size_t pixel_map_slots(std::size_t n) noexcept {
-  std::size_t slots = 16;
-  while (slots < 2 * n) slots *= 2;
-  return slots;
-}
-
 /// A map from pixels of a `width`-wide frame to indexes, in zeroed workspace slots
 /// (`pixel_map_slots` of each): open addressing with linear probing, key y·width + x + 1 (0
 /// marks an empty slot).
@@ -191,8 +192,8 @@ struct pixel_map {
 ///    nearest background pixel centre, half a pixel beyond the outline), capped beside the
 ///    junctions at its ends (`detail::caps_of`);
 ///  - a disc per other pixel of `skeleton` (`dist2` its squared distances): the spurs pruning
-///    took off (a bump of the outline, the stub of a limb hugging its parent) and the junctions'
-///    own pixels, owned by the limb they hang from along the skeleton (a breadth-first walk
+///    took off (a bump of the outline, the short end of a limb hugging its parent) and the
+///    junctions' own pixels, owned by the limb they hang from along the skeleton (a breadth-first walk
 ///    from the limbs' points: a spur belongs to the body it grows from, not to a limb across a
 ///    gap), and no wider than the limb point they hang from. The mask keeps what pruning drops
 ///    from the graph, and a claw meets the mask. A piece of skeleton joined to no limb (a blob
