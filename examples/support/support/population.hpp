@@ -5,13 +5,19 @@
 /// `perch_truth`. For finding failures, not for a score: no member is tuned one by one.
 ///
 ///  - `tree_family::arcs` (`make_tree`): forks and side limbs on circular arcs, bent and kinked
-///    at will; a fifth of its members are built with no feasible perch (`perch_supply::none`).
+///    at will; its no-perch members are built with no feasible perch (`perch_supply::none`).
 ///  - `tree_family::colonisation` (`make_colonisation_tree`, Runions et al. 2007): crowns grown
 ///    toward attraction points, decurrent, excurrent, columnar and irregular.
+///
+/// The mix: 15 % of each family's members have no feasible stretch, the rest have one (a
+/// population where most trees offer nothing measures only caution). A member's knobs come
+/// from its index; its tree is the first of its draws (seeds) whose truth has the wished
+/// outcome, so the selection looks at the truth only, never at what the pipeline answers.
 ///
 /// Host code: allocates, no exceptions. Not part of the library.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -34,8 +40,22 @@ struct population_member {
   int index = 0;
   std::string kind;        ///< the knobs that are on, e.g. "noisy+kinks"
   bool built_without_perch = false;  ///< `perch_supply::none`: must get no perch
+  bool wished_perch = true;  ///< the mix asked this member for a feasible stretch (else none)
+  int draws = 1;             ///< seeds tried until the truth had the wished outcome
+  bool wish_met = true;      ///< false: no draw had it (the last draw is the member)
   synthetic_tree tree;
 };
+
+/// Members `i` with `i % no_perch_period < no_perch_members` have no feasible stretch: 15 %.
+inline constexpr int no_perch_period = 20;
+inline constexpr int no_perch_members = 3;
+/// Seeds a member tries for its wished outcome before it keeps the last.
+inline constexpr int max_draws = 16;
+
+/// Whether member `i` of a family is to have a feasible stretch.
+[[nodiscard]] constexpr bool wishes_perch(int i) noexcept {
+  return i % no_perch_period >= no_perch_members;
+}
 
 namespace detail::population {
 
@@ -66,8 +86,8 @@ inline void add(std::string& kind, const char* what) {
 
 }  // namespace detail::population
 
-/// Member `i` of the arcs family at `magnify` times the base size.
-[[nodiscard]] inline population_member arcs_member(int i, int magnify = 1) {
+/// Draw `draw` of member `i` of the arcs family at `magnify` times the base size.
+[[nodiscard]] inline population_member arcs_draw(int i, int draw, int magnify = 1) {
   namespace p = detail::population;
   population_member m;
   m.family = tree_family::arcs;
@@ -75,14 +95,14 @@ inline void add(std::string& kind, const char* what) {
   tree_options o;
   o.width = p::widths[i % 4] * magnify;
   o.height = o.width * 3 / 4;
-  o.seed = 7000u + static_cast<std::uint32_t>(i);
+  o.seed = 7000u + static_cast<std::uint32_t>(i) + 100003u * static_cast<std::uint32_t>(draw);
   // The trunk 3.5–8 % of the width: 1.8–8 mm/px at the base sizes.
   o.mm_per_px = 180.0f / (p::pick(i, 1, 0.035f, 0.08f) * static_cast<float>(o.width));
   o.levels = 2 + static_cast<int>(p::mix(i, 2) % 2u);
   o.branches_per_node = 2 + static_cast<int>(p::mix(i, 3) % 2u);
   o.side_limbs = static_cast<int>(p::mix(i, 4) % 3u);
   o.wide_side_angles = p::chance(i, 5, 0.5f);
-  if (i % 5 == 0) {
+  if (!wishes_perch(i)) {
     o.perches = perch_supply::none;
     m.built_without_perch = true;
     p::add(m.kind, "none");
@@ -119,8 +139,8 @@ inline void add(std::string& kind, const char* what) {
   return m;
 }
 
-/// Member `i` of the colonisation family at `magnify` times the base size.
-[[nodiscard]] inline population_member colonisation_member(int i, int magnify = 1) {
+/// Draw `draw` of member `i` of the colonisation family at `magnify` times the base size.
+[[nodiscard]] inline population_member colonisation_draw(int i, int draw, int magnify = 1) {
   namespace p = detail::population;
   population_member m;
   m.family = tree_family::colonisation;
@@ -128,15 +148,22 @@ inline void add(std::string& kind, const char* what) {
   colonisation_options o;
   o.width = p::widths[2 + i % 2] * magnify;  // crowns need room: 960 or 1280 px
   o.height = o.width * 3 / 4;
-  o.seed = 9000u + static_cast<std::uint32_t>(i);
-  o.trunk_diameter_mm = p::pick(i, 21, 150.0f, 300.0f);
-  // The trunk 2.5–6 % of the width (a crown 8–20 trunks wide): 2–12 mm/px.
-  o.mm_per_px = o.trunk_diameter_mm / (p::pick(i, 22, 0.025f, 0.06f) * static_cast<float>(o.width));
+  o.seed = 9000u + static_cast<std::uint32_t>(i) + 100003u * static_cast<std::uint32_t>(draw);
+  // The trunk 2.5–6 % of the width (a crown 8–20 trunks wide), 150–300 mm but at most 8 mm/px
+  // (the scales of a drone's camera near a tree: 1.5–8 mm/px).
+  const float trunk_share = p::pick(i, 22, 0.025f, 0.06f);
+  constexpr float coarsest_mm_per_px = 8.0f;
+  o.trunk_diameter_mm = std::min(p::pick(i, 21, 150.0f, 300.0f),
+                                 coarsest_mm_per_px * trunk_share * static_cast<float>(o.width));
+  o.mm_per_px = o.trunk_diameter_mm / (trunk_share * static_cast<float>(o.width));
+  // Columnar crowns (steep limbs only) hardly ever offer a perch: they are the no-perch
+  // members, with a share of the others' forms; the members wished a perch take the others.
   constexpr crown_form forms[] = {crown_form::decurrent, crown_form::excurrent,
-                                  crown_form::columnar, crown_form::irregular};
-  o.form = forms[i % 4];
-  constexpr const char* form_names[] = {"decurrent", "excurrent", "columnar", "irregular"};
-  p::add(m.kind, form_names[i % 4]);
+                                  crown_form::irregular, crown_form::columnar};
+  constexpr const char* form_names[] = {"decurrent", "excurrent", "irregular", "columnar"};
+  const int form = wishes_perch(i) ? i % 3 : i % 4 == 0 ? 3 : i % 3;
+  o.form = forms[form];
+  p::add(m.kind, form_names[form]);
   if (p::chance(i, 23, 0.35f)) {
     o.noise = 1.0f + 0.0016f * static_cast<float>(o.width);
     o.twigs = 4 + static_cast<int>(p::mix(i, 24) % 8u);
@@ -159,10 +186,22 @@ inline void add(std::string& kind, const char* what) {
   return m;
 }
 
-/// Member `i` of `family`.
+/// Member `i` of `family`: its first draw whose truth has a feasible stretch if
+/// `wishes_perch(i)`, else its first draw without one (at most `max_draws` draws; the truth
+/// is computed once per draw).
 [[nodiscard]] inline population_member population_tree(tree_family family, int i,
                                                         int magnify = 1) {
-  return family == tree_family::arcs ? arcs_member(i, magnify) : colonisation_member(i, magnify);
+  const bool wish = wishes_perch(i);
+  population_member m;
+  for (int draw = 0; draw < max_draws; ++draw) {
+    m = family == tree_family::arcs ? arcs_draw(i, draw, magnify)
+                                    : colonisation_draw(i, draw, magnify);
+    m.wished_perch = wish;
+    m.draws = draw + 1;
+    m.wish_met = perch_truth(m.tree).has_perch() == wish;
+    if (m.wish_met) break;
+  }
+  return m;
 }
 
 }  // namespace perch::support

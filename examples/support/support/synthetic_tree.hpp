@@ -1497,6 +1497,10 @@ class perch_truth {
     float step = 0.0f;
     std::vector<float> gap, border, bend;
     std::vector<std::size_t> near;  ///< obstacles whose boxes come within reach of the limb
+    /// Per run of `run_points` points (from point 0): the obstacles of `near` within reach of
+    /// the run's box grown by a pixel, so of any arc position within a step of the run.
+    std::vector<std::vector<std::size_t>> near_run;
+    static constexpr int run_points = 32;
   };
 
   [[nodiscard]] static bool well_formed(const limb_truth& L) noexcept {
@@ -1598,12 +1602,21 @@ class perch_truth {
   /// Rule 4 at arc s of limb li: the smallest |p − q| − r_B(q) − r(p), px, over the obstacles
   /// of other limbs within reach (∞ when none).
   [[nodiscard]] float clearance_gap_px(std::size_t li, float s) const {
+    const profile& pr = profiles_[li];
+    if (pr.near_run.empty() || !(pr.step > 0.0f)) return clearance_gap_px(li, s, pr.near);
+    const auto k = static_cast<std::ptrdiff_t>(std::floor(s / pr.step + 0.5f)) / profile::run_points;
+    const auto last = static_cast<std::ptrdiff_t>(pr.near_run.size()) - 1;
+    return clearance_gap_px(li, s, pr.near_run[static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(k, 0, last))]);
+  }
+  /// The same, searching only `candidates` (obstacle indices that include every one in reach).
+  [[nodiscard]] float clearance_gap_px(std::size_t li, float s,
+                                       const std::vector<std::size_t>& candidates) const {
     const limb_truth& L = tree_->limbs[li];
     const Eigen::Vector2f p = truth_point_at(L, s);
     const float r = 0.5f * truth_diameter_at(L, s);
     const float reach = r + 2.0f * clearance_px_;
     float best = std::numeric_limits<float>::infinity();
-    for (const std::size_t oi : profiles_[li].near) {
+    for (const std::size_t oi : candidates) {
       const obstacle& ob = obstacles_[oi];
       if (!ob.bounds.near(p, reach)) continue;
       const Eigen::Vector2f d = ob.b - ob.a;
@@ -1683,12 +1696,29 @@ class perch_truth {
       pr.gap.resize(static_cast<std::size_t>(n) + 1);
       pr.border.resize(pr.gap.size());
       pr.bend.resize(pr.gap.size());
-      for (int k = 0; k <= n; ++k) {
-        const float s = std::min(pr.step * static_cast<float>(k), len);
-        const auto uk = static_cast<std::size_t>(k);
-        pr.gap[uk] = clearance_gap_px(li, s);
-        pr.border[uk] = border_px(L, s);
-        pr.bend[uk] = bend_deg(L, s);
+      // The points in runs, each run searching only the obstacles near its box (the same gaps
+      // as searching `near`, far fewer tests on a long limb in a dense crown).
+      for (int k0 = 0; k0 <= n; k0 += profile::run_points) {
+        const int k1 = std::min(n, k0 + profile::run_points - 1);
+        box run;
+        float run_r = 0.0f;
+        for (int k = k0; k <= k1; ++k) {
+          const float s = std::min(pr.step * static_cast<float>(k), len);
+          const float r = 0.5f * truth_diameter_at(L, s);
+          run.add(truth_point_at(L, s), r);
+          run_r = std::max(run_r, r);
+        }
+        std::vector<std::size_t>& local = pr.near_run.emplace_back();
+        for (const std::size_t oi : pr.near)
+          if (obstacles_[oi].bounds.overlaps(run, run_r + 1.0f + 2.0f * clearance_px_))
+            local.push_back(oi);
+        for (int k = k0; k <= k1; ++k) {
+          const float s = std::min(pr.step * static_cast<float>(k), len);
+          const auto uk = static_cast<std::size_t>(k);
+          pr.gap[uk] = clearance_gap_px(li, s, local);
+          pr.border[uk] = border_px(L, s);
+          pr.bend[uk] = bend_deg(L, s);
+        }
       }
     }
   }
