@@ -195,8 +195,8 @@ TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known 
       // for a stretch, which the mask cannot show (the truth's gap there is negative): most of
       // the wrong sites are such fused pairs (see docs/accuracy-log.md).
       CHECK(s.false_perches <= 3);  // measured 2
-      CHECK(s.rate() >= 0.30);      // measured 32.5 % (25 of 77)
-      CHECK(s.incorrect <= 8);      // measured 7
+      CHECK(s.rate() >= 0.33);      // measured 35.1 % (27 of 77)
+      CHECK(s.incorrect <= 7);      // measured 6
     }
   }
 }

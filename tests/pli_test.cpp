@@ -114,14 +114,23 @@ TEST_CASE("find_perch: pinholes in a limb are filled, so the limb stays whole") 
   CHECK(mask(60, 36) == 0);  // the caller's mask is not touched
   REQUIRE(found->outcome == perch_outcome::found);
   CHECK(std::abs(found->sites.front().window.centre.y - 40) <= 1);
-  // Filling only the single pixel leaves the 2 × 2 hole mid-limb, and the limb in pieces.
+  // Filling only the single pixel leaves the 2 × 2 hole 3 px below the axis: the skeleton
+  // circles it, and the limb runs on along the thick strand above it (the strand below is
+  // thinner than a twig), so the perch stays.
   perch::perch_options options;
   options.max_hole_px = 3;
   auto split =
       perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws, options);
   REQUIRE(split);
   CHECK(split->holes.filled == 1);
-  CHECK(split->outcome == perch_outcome::no_perch);
+  CHECK(split->outcome == perch_outcome::found);
+  // Without the twig rule (nothing is a twig), the strand below ends the limb at the hole, and
+  // the pieces are shorter than a window.
+  options.obstacles.twig_max_mm = 0;
+  auto cut =
+      perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws, options);
+  REQUIRE(cut);
+  CHECK(cut->outcome == perch_outcome::no_perch);
   options.max_hole_px = -1;
   auto bad =
       perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws, options);

@@ -377,7 +377,7 @@ template <class Scale>
   s.node_distance = *node_distance;
   s.next = *next;
   PERCH_TRY(distances_to_trunk(graph, s.node_distance, ws));
-  limb_continuations(graph, s.next, options.limbs);
+  limb_continuations(graph, s.next, options.limbs, options.obstacles.twig_radius_px(s.mm_per_px));
   auto traced = trace_limbs(graph, s.next, ws);
   if (!traced) return unexpected{traced.error()};
   out.limbs = *traced;

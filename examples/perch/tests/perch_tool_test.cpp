@@ -811,10 +811,11 @@ TEST_CASE("eval --population: the four outcomes per family, per rule broken and 
     CHECK(member(c, "trees").items.size() == member(c, "count").number);
   }
   CHECK(causes == member(outcomes, "incorrect_location").number);
-  // Per knob: arcs member 0 is built without a perch ("none"), colonisation 0..2 are decurrent,
-  // excurrent and columnar.
+  // Per knob: arcs members 0..2 are built without a perch ("none": the population's no-perch
+  // members), colonisation 0..2 are columnar, excurrent and irregular.
   const json_value& knobs = member(doc, "knobs");
-  for (const char* knob : {"none", "decurrent", "excurrent", "columnar"}) CHECK(member(member(knobs, knob), "trees").number == 1);
+  CHECK(member(member(knobs, "none"), "trees").number == 3);
+  for (const char* knob : {"columnar", "excurrent", "irregular"}) CHECK(member(member(knobs, knob), "trees").number == 1);
   for (const auto& [knob, t] : knobs.members) CHECK(sum(member(t, "outcomes")) == member(t, "trees").number);
   CHECK(member(member(doc, "built_without_perch"), "given_a_perch").number == 0);
   CHECK(member(member(doc, "knife_edge"), "trees").is_number());

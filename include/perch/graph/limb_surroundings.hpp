@@ -38,6 +38,14 @@ struct obstacle_options {
   /// width read off the mask (good to about a pixel) below `twig_max_mm` by this much.
   float uncertainty_px = 1.0f;
 
+  /// The smallest distance-map radius (px) of an obstacle at `mm_per_px`: a disc of radius r
+  /// stands for a width of about 2·r − 1 px. Thinner edges are twigs (also for
+  /// `limb_continuations`: a limb runs on past them).
+  [[nodiscard]] float twig_radius_px(float mm_per_px) const noexcept {
+    if (!(mm_per_px > 0)) return 0;  // no scale: nothing is known to be a twig
+    return 0.5f * (twig_max_mm / mm_per_px - uncertainty_px) + 0.5f;
+  }
+
   [[nodiscard]] status validate() const noexcept {
     if (!(twig_max_mm >= 0 && twig_max_mm < 1e6f) || !(uncertainty_px >= 0 && uncertainty_px < 1e6f))
       return fail(errc::invalid_parameter, "obstacle_options");
@@ -232,8 +240,7 @@ struct pixel_map {
   // Limb points, then the skeleton's other pixels (`pending`), mapped to their discs.
   const detail::pixel_map disc_of{*keys, *values, width};
   constexpr std::uint32_t pending = detail::pixel_map::absent - 1;
-  // A disc of distance-map radius r stands for a width of about 2·r − 1 px.
-  const float min_radius_px = 0.5f * (options.twig_max_mm / mm_per_px - options.uncertainty_px) + 0.5f;
+  const float min_radius_px = options.twig_radius_px(mm_per_px);
   std::size_t count = 0;
   auto place = [&](pixel p, float radius, std::int32_t owner) {
     (*discs)[count] = {static_cast<float>(p.x), static_cast<float>(p.y), radius, owner};

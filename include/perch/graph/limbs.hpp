@@ -138,13 +138,18 @@ inline constexpr float straight_tolerance_px = 1.5f;
 /// `next[edge_end_index(e, end)]` = edge_end_index(e', end') (symmetric). At a junction node
 /// whose incident edges are all distinct (no self-loop), two edges continue one another when
 /// they leave in nearly opposite directions (`max_turn_deg`) with similar thicknesses
-/// (`through_thickness_ratio_min`) and every other edge there is a side twig
-/// (`side_area_share_max`); of several such pairs, the straightest. Directions and thicknesses
-/// are those of each edge just beyond the node (`leaving_axis_of`).
+/// (`through_thickness_ratio_min`) and every other edge there is a side twig: a leaf edge of at
+/// most `side_area_share_max` of the through limb's cross-section (the pipe model: a thicker
+/// leaf may be the other child of a fork), or an edge that leads on to another junction with a
+/// radius under `twig_radius_px` (a twig by the platform's measure that touches something else
+/// or carries spurs: clutter a claw closes through, which the clearance does not count either;
+/// 0 for none); of several such pairs, the straightest. Directions and thicknesses are those of
+/// each edge just beyond the node (`leaving_axis_of`).
 /// `next` holds 2·`graph.topology().edge_id_end()` entries.
 /// Complexity: O(Σ over junctions of degree² + points near the junctions).
 inline void limb_continuations(const skeleton_graph& graph, std::span<std::int32_t> next,
-                               const limb_options& options = {}) noexcept {
+                               const limb_options& options = {},
+                               float twig_radius_px = 0) noexcept {
   PERCH_ASSERT(next.size() >= 2 * static_cast<std::size_t>(graph.topology().edge_id_end()),
                "limb_continuations: next size");
   for (auto& v : next) v = -1;
@@ -181,8 +186,9 @@ inline void limb_continuations(const skeleton_graph& graph, std::span<std::int32
         bool sides_thin = true;
         for (std::size_t s = 0; s < count && sides_thin; ++s)
           if (s != a && s != b)
-            sides_thin = leaf[s] &&
-                         radius(s) * radius(s) <= options.side_area_share_max * thin * thin;
+            sides_thin =
+                leaf[s] ? radius(s) * radius(s) <= options.side_area_share_max * thin * thin
+                        : radius(s) < twig_radius_px;
         if (!sides_thin) continue;
         best_a = a;
         best_b = b;
