@@ -26,7 +26,7 @@ struct perch_report {
 };
 
 std::uint8_t mask[height][width];
-/// The workspace: the size query for this mask and its limits, rounded up (see README).
+/// The workspace: this tree's call needs 182 848 bytes (`high_water`), with margin (README).
 constexpr std::size_t buffer_bytes = 256 * 1024;
 alignas(perch::workspace::alignment) std::byte buffer[buffer_bytes];
 perch_report report;
