@@ -382,7 +382,7 @@ template <class Scale>
   if (!traced) return unexpected{traced.error()};
   out.limbs = *traced;
   auto stretches = ws.allocate<branch_stretch>(out.limbs.size());
-  const auto components = static_cast<std::size_t>(std::max(graph.component_count(), 0));
+  const auto components = static_cast<std::size_t>(std::max<std::int32_t>(graph.component_count(), 0));
   auto grounded = ws.allocate<std::uint8_t>(components);
   auto component_area = ws.allocate<float>(components);
   if (!stretches) return unexpected{stretches.error()};
@@ -486,8 +486,10 @@ template <Platform P, class Scale>
   if (!ranked) return unexpected{ranked.error()};
   auto to_input = [&](window_measures& window) {
     const point2f c = out.mask.to_input(to_point(window.centre));
-    window.centre = {std::clamp(static_cast<std::int32_t>(std::lround(c.x())), 0, out.width - 1),
-                     std::clamp(static_cast<std::int32_t>(std::lround(c.y())), 0, out.height - 1)};
+    window.centre = {std::clamp<std::int32_t>(static_cast<std::int32_t>(std::lround(c.x())), 0,
+                                              out.width - 1),
+                     std::clamp<std::int32_t>(static_cast<std::int32_t>(std::lround(c.y())), 0,
+                                              out.height - 1)};
     window.mm_per_px *= options.downscale;
   };
   auto sites = ws.allocate<perch_site>(ranked->sites.size());

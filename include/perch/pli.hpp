@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string_view>
 
@@ -30,7 +31,8 @@ namespace perch {
 /// tree, the worst case); give a borrowed workspace this much and it never fails for lack of
 /// room. Real trees need far less: `workspace::high_water()` after a call says how much.
 /// 0 for sizes or options `find_perch` rejects before taking any workspace (negative or zero
-/// sizes, more than `max_image_pixels`, invalid options).
+/// sizes, more than `max_image_pixels`, invalid options), and when the bound does not fit this
+/// target's `size_t` (large frames on 32-bit targets: no buffer there could hold it).
 [[nodiscard]] inline std::size_t find_perch_workspace_bytes(int width, int height,
                                                            const perch_options& options = {}) noexcept {
   if (width <= 0 || height <= 0 || std::int64_t{width} * height > max_image_pixels ||
@@ -39,6 +41,10 @@ namespace perch {
   const int w = scaled_extent(width, options.downscale) + 2;
   const int h = scaled_extent(height, options.downscale) + 2;
   const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  // The bound is under 1 KiB per pixel plus per window: with 2 KiB of headroom for each, no
+  // term or sum wraps (a 32-bit target still sizes 1920 x 1080).
+  constexpr std::size_t most = std::numeric_limits<std::size_t>::max() / 2048;
+  if (n > most || options.max_windows > most) return 0;
   std::size_t bytes = prepare_mask_workspace_bytes(width, height, options.downscale);
   bytes += row_runs_workspace_bytes(h, detail::max_runs(w, h)) +
            fill_holes_workspace_bytes(h, detail::max_runs(w, h));

@@ -68,8 +68,9 @@ TEST_CASE("image_view: validate names every malformed view") {
   CHECK(perch::validate(image_view<std::uint8_t>(buffer.data(), 4, 4, 3)).error().code ==
         errc::stride_too_small);
   const int big = std::numeric_limits<int>::max();
+  // Where ptrdiff_t has 32 bits, the rows of this view cannot even be addressed.
   CHECK(perch::validate(image_view<std::uint8_t>(buffer.data(), big, big)).error().code ==
-        errc::image_too_large);
+        (sizeof(std::ptrdiff_t) >= 8 ? errc::image_too_large : errc::size_overflow));
   CHECK(perch::validate(image_view<std::uint8_t>(buffer.data(), 4, big,
                                                   std::numeric_limits<std::ptrdiff_t>::max() / 4))
             .error()

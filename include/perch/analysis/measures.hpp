@@ -404,8 +404,8 @@ void cross_section_diameters(const Mask& mask, std::span<const pixel> points,
       const float l1 = std::abs(ch.x()) + std::abs(ch.y());  // ≥ its length: inside, at worst
       if (l1 > 0) {
         for (const float side : {reach / l1, -reach / l1}) {
-          const int x = std::clamp(a.x - static_cast<int>(side * ch.y()), 0, mask.width() - 1);
-          const int y = std::clamp(a.y + static_cast<int>(side * ch.x()), 0, mask.height() - 1);
+          const int x = std::clamp<int>(a.x - static_cast<int>(side * ch.y()), 0, mask.width() - 1);
+          const int y = std::clamp<int>(a.y + static_cast<int>(side * ch.x()), 0, mask.height() - 1);
           detail::prefetch(detail::row_pointer(mask, y) + x);
         }
       }

@@ -126,7 +126,8 @@ template <ImageView V>
   if (w == 0 || h == 0) return {};
   if (view.data() == nullptr) return fail(errc::null_data);
   if (static_cast<std::int64_t>(view.stride()) < w) return fail(errc::stride_too_small);
-  constexpr std::int64_t limit = std::numeric_limits<std::int64_t>::max() / 2;
+  // Row offsets are ptrdiff_t: stride × height must fit the target's (32 bits on 32-bit ARM).
+  constexpr std::int64_t limit = std::numeric_limits<std::ptrdiff_t>::max() / 2;
   if (static_cast<std::int64_t>(view.stride()) > limit / h) return fail(errc::size_overflow);
   if (w * h > max_image_pixels) return fail(errc::image_too_large);
   return {};

@@ -60,10 +60,15 @@ struct prepared_mask {
   int analysed_height = 0;
   std::int64_t tree_pixels = 0;  ///< non-zero pixels in `pixels`
 
-  /// A point of the analysed frame in input-image pixels.
+  /// A point of the analysed frame in input-image pixels. Scalar division on purpose: Eigen's
+  /// vectorised divide is a reciprocal estimate on 32-bit NEON, and this value is rounded to a
+  /// site's pixel, which must be the same on every target.
   [[nodiscard]] point2f to_input(point2f analysed) const noexcept {
     if (factor == 1.0f) return analysed;
-    return ((analysed.array() + 0.5f) / factor - 0.5f).matrix();
+    return point2f(input_coordinate(analysed.x()), input_coordinate(analysed.y()));
+  }
+  [[nodiscard]] float input_coordinate(float analysed) const noexcept {
+    return (analysed + 0.5f) / factor - 0.5f;
   }
 };
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory_resource>
 #include <new>
 #include <span>
@@ -18,6 +19,44 @@
 #endif
 
 namespace perch {
+
+namespace detail {
+
+/// An owning workspace's blocks from a `std::pmr::memory_resource` (the context), reached only
+/// through the function pointers an owning constructor stores: the bump allocator itself names
+/// no allocator, so a firmware image that only borrows a buffer links no heap, no `pmr` and no
+/// exception or RTTI support.
+struct pmr_blocks {
+  static void* take(void* resource, std::size_t bytes, std::size_t alignment) noexcept {
+    return static_cast<std::pmr::memory_resource*>(resource)->allocate(bytes, alignment);
+  }
+  static void* take_huge(void* resource, std::size_t bytes, std::size_t alignment) noexcept {
+    void* memory = take(resource, bytes, alignment);
+    if (memory != nullptr) hint_huge_pages(memory, bytes);
+    return memory;
+  }
+  static void give_back(void* resource, void* block, std::size_t bytes,
+                        std::size_t alignment) noexcept {
+    static_cast<std::pmr::memory_resource*>(resource)->deallocate(block, bytes, alignment);
+  }
+
+  /// Marks the whole 2 MiB pages inside [memory, memory + bytes) for transparent huge pages
+  /// (Linux; nothing elsewhere).
+  static void hint_huge_pages(void* memory, std::size_t bytes) noexcept {
+#if defined(__linux__) && !defined(PERCH_NO_HUGE_PAGE_HINT)
+    constexpr std::uintptr_t page = std::uintptr_t{2} << 20;
+    const auto start = reinterpret_cast<std::uintptr_t>(memory);
+    const std::uintptr_t begin = (start + page - 1) / page * page;
+    const std::uintptr_t end = (start + bytes) / page * page;
+    if (end > begin) (void)::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+    (void)memory;
+    (void)bytes;
+#endif
+  }
+};
+
+}  // namespace detail
 
 /// A bump allocator over one or more memory blocks.
 ///
@@ -34,6 +73,9 @@ namespace perch {
 ///   never allocates; a request that does not fit fails with `errc::workspace_too_small`, whose
 ///   `error::needed` says how many bytes the buffer needed at least.
 ///
+/// The owning constructors are the only code that names an allocator; a program that only
+/// borrows never instantiates them (its image holds no `operator new`, `malloc` or `pmr`).
+///
 /// Every allocation is aligned to, and rounded up to, `alignment` (64 bytes), so the bytes a
 /// sequence of requests needs is the sum of `footprint<T>(n)`: size queries are exact.
 /// Objects handed out must be trivially destructible: the workspace never runs destructors.
@@ -43,17 +85,30 @@ class workspace {
   static constexpr std::size_t alignment = 64;
   static constexpr std::size_t max_blocks = 32;
   static constexpr std::size_t min_block_bytes = std::size_t{64} << 10;
+  /// The largest single request: 1 TiB, or half the address space where `size_t` is narrower,
+  /// so that rounding and summing request sizes never wraps.
+  static constexpr std::size_t max_request_bytes =
+      std::numeric_limits<std::size_t>::max() / 2 < (std::uint64_t{1} << 40)
+          ? std::numeric_limits<std::size_t>::max() / 2
+          : static_cast<std::size_t>(std::uint64_t{1} << 40);
 
-  /// Bytes `n` objects of `T` take in a workspace (rounded up to `alignment`); 0 on overflow
-  /// is impossible for sizes perch requests (at most a few GiB).
+  /// Bytes `n` objects of `T` take in a workspace (rounded up to `alignment`); exact for every
+  /// `n` that `allocate` accepts (`n * sizeof(T) <= max_request_bytes`).
   template <class T>
   [[nodiscard]] static constexpr std::size_t footprint(std::size_t n) noexcept {
     return round_up(n * sizeof(T));
   }
 
+  /// An owning workspace on the heap (`std::pmr::new_delete_resource()`), its blocks hinted
+  /// for huge pages on Linux.
+  workspace() noexcept : workspace(std::pmr::new_delete_resource()) {}
+
   /// An owning workspace drawing blocks from `upstream` (never null).
-  explicit workspace(std::pmr::memory_resource* upstream = std::pmr::new_delete_resource()) noexcept
-      : upstream_(upstream) {
+  explicit workspace(std::pmr::memory_resource* upstream) noexcept
+      : upstream_(upstream),
+        take_(upstream == std::pmr::new_delete_resource() ? &detail::pmr_blocks::take_huge
+                                                          : &detail::pmr_blocks::take),
+        give_back_(&detail::pmr_blocks::give_back) {
     PERCH_ASSERT(upstream != nullptr, "workspace: null memory resource");
   }
 
@@ -79,7 +134,7 @@ class workspace {
   [[nodiscard]] result<std::span<T>> allocate(std::size_t count) noexcept {
     static_assert(std::is_trivially_destructible_v<T>, "workspace never runs destructors");
     static_assert(alignof(T) <= alignment, "over-aligned type");
-    if (count > (std::size_t{1} << 40) / sizeof(T)) return fail(errc::size_overflow, "workspace");
+    if (count > max_request_bytes / sizeof(T)) return fail(errc::size_overflow, "workspace");
     if (count == 0) return std::span<T>{};
     auto bytes = allocate_bytes(footprint<T>(count));
     if (!bytes) return unexpected{bytes.error()};
@@ -118,7 +173,7 @@ class workspace {
   [[nodiscard]] status reserve(std::size_t bytes) noexcept {
     bytes = round_up(bytes);
     if (block_count_ == 1 && blocks_[0].size >= bytes) return {};
-    if (upstream_ == nullptr) {
+    if (!owns_memory()) {
       if (capacity() >= bytes) return {};
       return fail(errc::workspace_too_small, "workspace::reserve", bytes);
     }
@@ -144,7 +199,7 @@ class workspace {
   [[nodiscard]] std::size_t high_water() const noexcept { return high_water_; }
   /// Number of blocks taken from the upstream resource so far (0 for a borrowing workspace).
   [[nodiscard]] std::size_t upstream_allocations() const noexcept { return upstream_count_; }
-  [[nodiscard]] bool owns_memory() const noexcept { return upstream_ != nullptr; }
+  [[nodiscard]] bool owns_memory() const noexcept { return take_ != nullptr; }
 
  private:
   struct block {
@@ -171,10 +226,11 @@ class workspace {
       ++current_;  // the rest of this block is skipped; later blocks are larger
       offset_ = 0;
     }
-    if (upstream_ == nullptr) {
+    if (!owns_memory()) {
       current_ = entry.block;
       offset_ = entry.offset;
-      return fail(errc::workspace_too_small, "workspace", used() + bytes);
+      const std::size_t needed = used() > max_request_bytes ? used() : used() + bytes;
+      return fail(errc::workspace_too_small, "workspace", needed);
     }
     const std::size_t grow = capacity() > min_block_bytes ? capacity() : min_block_bytes;
     PERCH_TRY(add_block(bytes > grow ? bytes : grow));
@@ -183,27 +239,11 @@ class workspace {
 
   status add_block(std::size_t bytes) noexcept {
     if (block_count_ == max_blocks) return fail(errc::out_of_memory, "workspace: too many blocks");
-    void* memory = upstream_->allocate(bytes, alignment);
+    void* memory = take_(upstream_, bytes, alignment);
     if (memory == nullptr) return fail(errc::out_of_memory, "workspace");
     blocks_[block_count_++] = {static_cast<std::byte*>(memory), bytes};
     ++upstream_count_;
-    if (upstream_ == std::pmr::new_delete_resource()) hint_huge_pages(memory, bytes);
     return {};
-  }
-
-  /// Marks the whole 2 MiB pages inside [memory, memory + bytes) for transparent huge pages
-  /// (Linux; nothing elsewhere).
-  static void hint_huge_pages(void* memory, std::size_t bytes) noexcept {
-#if defined(__linux__) && !defined(PERCH_NO_HUGE_PAGE_HINT)
-    constexpr std::uintptr_t page = std::uintptr_t{2} << 20;
-    const auto start = reinterpret_cast<std::uintptr_t>(memory);
-    const std::uintptr_t begin = (start + page - 1) / page * page;
-    const std::uintptr_t end = (start + bytes) / page * page;
-    if (end > begin) (void)::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-#else
-    (void)memory;
-    (void)bytes;
-#endif
   }
 
   void note_use() noexcept {
@@ -212,15 +252,19 @@ class workspace {
   }
 
   void release() noexcept {
-    if (upstream_ != nullptr)
+    if (owns_memory()) {
       for (std::size_t i = 0; i < block_count_; ++i)
-        upstream_->deallocate(blocks_[i].data, blocks_[i].size, alignment);
-    if (upstream_ != nullptr) block_count_ = 0;
+        give_back_(upstream_, blocks_[i].data, blocks_[i].size, alignment);
+      block_count_ = 0;
+    }
     current_ = 0;
     offset_ = 0;
   }
 
-  std::pmr::memory_resource* upstream_ = nullptr;
+  // Owning only: the upstream and how to take blocks from it and give them back.
+  void* upstream_ = nullptr;
+  void* (*take_)(void*, std::size_t, std::size_t) noexcept = nullptr;
+  void (*give_back_)(void*, void*, std::size_t, std::size_t) noexcept = nullptr;
   std::array<block, max_blocks> blocks_{};
   std::size_t block_count_ = 0;
   std::size_t current_ = 0;

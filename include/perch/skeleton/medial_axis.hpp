@@ -428,8 +428,8 @@ struct medial_axis {
     const std::size_t ring_size = q.ring_size;
     for (std::size_t b = 0; b < border; ++b) {
       const std::uint32_t i = ring[b];
-      pixels.mark(i);
-      order[fill[pixels.key(i)]++] = i;
+      pixels.mark(static_cast<std::ptrdiff_t>(i));
+      order[fill[pixels.key(static_cast<std::ptrdiff_t>(i))]++] = i;
     }
     std::ptrdiff_t offset[8];
     for (int k = 0; k < 8; ++k) offset[k] = img.offset[k];

@@ -167,7 +167,7 @@ inline status thin_two_subiterations(const neighbourhood_table* tables,
     for (std::size_t k = 0; k < count; ++k) px[deleted[k]] &= static_cast<std::uint8_t>(~1u);
     for (std::size_t k = 0; k < count; ++k) {
       for (int j = 0; j < 8; ++j) {
-        const auto q = static_cast<std::uint32_t>(deleted[k] + img.offset[j]);
+        const auto q = static_cast<std::uint32_t>(static_cast<std::ptrdiff_t>(deleted[k]) + img.offset[j]);
         const std::uint8_t v = px[q];
         if ((v & 1u) == 0) continue;
         if ((v & 2u) == 0) list[0][size[0]++] = q;

@@ -318,7 +318,7 @@ inline void sweep_redundant(const padded_image& img, std::uint32_t* queue, std::
     const std::uint32_t i = queue[head++];
     img.px[i] &= static_cast<std::uint8_t>(~2u);
     if ((img.px[i] & 1u) == 0) continue;
-    const unsigned c = img.code(i);
+    const unsigned c = img.code(static_cast<std::ptrdiff_t>(i));
     if (!deletable_table[c]) continue;
     img.px[i] = 0;
     for (int k = 0; k < 8; ++k) {
