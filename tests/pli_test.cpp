@@ -293,6 +293,76 @@ TEST_CASE("find_perch: downscaling by 0.5 finds the same site within a few pixel
   CHECK(std::abs(r.window.centre.y - best.window.centre.y) <= 40);
 }
 
+TEST_CASE("find_perch: every site says which way its branch runs") {
+  perch::workspace ws;
+  for (const float angle : {0.0f, 20.0f, -15.0f}) {
+    for (const bool mirrored : {false, true}) {
+      CAPTURE(angle);
+      CAPTURE(mirrored);
+      auto mask = t_tree(angle, 31.0f);
+      if (mirrored)  // the limb leaves the trunk to the left
+        for (int y = 0; y < mask.height(); ++y)
+          std::reverse(&mask(0, y), &mask(0, y) + mask.width());
+      for (const float downscale : {1.0f, 0.5f}) {
+        perch::perch_options options;
+        options.downscale = downscale;
+        auto found = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f},
+                                       ws, options);
+        REQUIRE(found);
+        REQUIRE(found->outcome == perch_outcome::found);
+        for (const perch::perch_site& site : found->sites) {
+          const perch::window_measures& w = site.window;
+          // Out along the limb, away from the trunk: 0° to the right, 180° to the left, up is +.
+          const float expected = mirrored ? (angle >= 0 ? 180.0f - angle : -180.0f - angle) : angle;
+          CHECK(std::abs(w.heading_deg - expected) < 3.0f);
+          const float trunk_x = mirrored ? static_cast<float>(mask.width() - 1) - 160.0f : 160.0f;
+          CHECK(std::abs(static_cast<float>(w.base_end.x) - trunk_x) <
+                std::abs(static_cast<float>(w.tip_end.x) - trunk_x));
+          // One drone width (90 px at 2 mm/px) apart, the perch between them.
+          const float span = std::hypot(static_cast<float>(w.tip_end.x - w.base_end.x),
+                                        static_cast<float>(w.tip_end.y - w.base_end.y));
+          CHECK(span == doctest::Approx(90.0f).epsilon(0.06));
+          CHECK(std::min(w.base_end.x, w.tip_end.x) <= w.centre.x);
+          CHECK(w.centre.x <= std::max(w.base_end.x, w.tip_end.x));
+          CHECK_FALSE(w.has_position);
+        }
+      }
+    }
+  }
+}
+
+TEST_CASE("find_perch: with depth, the branch's ends and axis in 3-D") {
+  const auto mask = t_tree(0.0f, 31.0f);
+  const perch::pinhole camera{1000.0f, 1000.0f, 320.0f, 240.0f};
+  image<std::uint16_t> depth(mask.width(), mask.height());
+  perch::workspace ws;
+  // Fronto-parallel at 2 m: the level limb's axis is the camera's +x.
+  perch::fill(depth.view(), std::uint16_t{2000});
+  auto flat = perch::find_perch(mask.view(), perch::tendon_claw{},
+                                perch::depth_scale{depth.view(), camera}, ws);
+  REQUIRE(flat);
+  REQUIRE(flat->outcome == perch_outcome::found);
+  const perch::window_measures& f = flat->sites.front().window;
+  REQUIRE(f.has_position);
+  CHECK(f.axis_m.norm() == doctest::Approx(1.0f));
+  CHECK(f.axis_m.x() == doctest::Approx(1.0f).epsilon(0.01));
+  CHECK(f.base_end_m.z() == doctest::Approx(2.0f));
+  CHECK(f.tip_end_m.x() - f.base_end_m.x() == doctest::Approx(0.18f).epsilon(0.06));
+  // The limb recedes from the camera, 1 mm deeper per pixel to the right: its axis leans away.
+  for (int y = 0; y < depth.height(); ++y)
+    for (int x = 0; x < depth.width(); ++x) depth(x, y) = static_cast<std::uint16_t>(1800 + x);
+  auto leaning = perch::find_perch(mask.view(), perch::tendon_claw{},
+                                   perch::depth_scale{depth.view(), camera}, ws);
+  REQUIRE(leaning);
+  REQUIRE(leaning->outcome == perch_outcome::found);
+  const perch::window_measures& l = leaning->sites.front().window;
+  REQUIRE(l.has_position);
+  CHECK(l.axis_m.norm() == doctest::Approx(1.0f));
+  CHECK(l.tip_end_m.z() > l.base_end_m.z() + 0.02f);
+  CHECK(l.axis_m.z() > 0.1f);
+  CHECK(std::abs(l.axis_m.y()) < 0.02f);
+}
+
 TEST_CASE("find_perch: depth gives the scale and the 3-D position") {
   const auto mask = t_tree(0.0f, 31.0f);
   // A fronto-parallel tree 2 m away seen with f = 1000 px: 2 mm/px.

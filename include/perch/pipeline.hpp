@@ -484,12 +484,17 @@ template <Platform P, class Scale>
   auto ranked = rank_windows(s.windows.items(), platform.constraints, platform.scorer,
                              make_context, ws, options.ranking);
   if (!ranked) return unexpected{ranked.error()};
+  auto input_pixel = [&](pixel p) {
+    const point2f c = out.mask.to_input(to_point(p));
+    return pixel{std::clamp<std::int32_t>(static_cast<std::int32_t>(std::lround(c.x())), 0,
+                                          out.width - 1),
+                 std::clamp<std::int32_t>(static_cast<std::int32_t>(std::lround(c.y())), 0,
+                                          out.height - 1)};
+  };
   auto to_input = [&](window_measures& window) {
-    const point2f c = out.mask.to_input(to_point(window.centre));
-    window.centre = {std::clamp<std::int32_t>(static_cast<std::int32_t>(std::lround(c.x())), 0,
-                                              out.width - 1),
-                     std::clamp<std::int32_t>(static_cast<std::int32_t>(std::lround(c.y())), 0,
-                                              out.height - 1)};
+    window.centre = input_pixel(window.centre);
+    window.base_end = input_pixel(window.base_end);
+    window.tip_end = input_pixel(window.tip_end);
     window.mm_per_px *= options.downscale;
   };
   auto sites = ws.allocate<perch_site>(ranked->sites.size());

@@ -55,4 +55,12 @@ struct attitude {
   return a;
 }
 
+/// Direction `d` (image coordinates, y down) in degrees from the image's +x axis,
+/// counter-clockwise as seen with y up, in (−180°, 180°]; 0 for a zero vector.
+[[nodiscard]] inline float heading_deg(point2f d) noexcept {
+  if (d.x() == 0.0f && d.y() == 0.0f) return 0.0f;
+  const float a = std::atan2(-d.y(), d.x()) * 180.0f / std::numbers::pi_v<float>;
+  return a == -180.0f ? 180.0f : a;
+}
+
 }  // namespace perch

@@ -61,8 +61,22 @@ struct window_measures {
   bool grounded = true;
   float origin_distance_mm = 0;    ///< arc length from the branch's origin (toward the trunk)
   float origin_horizontal_mm = 0;  ///< horizontal part of origin → centre (bending lever arm)
+  /// The window's end toward the limb's origin (the trunk side) and its end toward the tip:
+  /// centreline points, in the input image's pixel coordinates.
+  pixel base_end{};
+  pixel tip_end{};
+  /// The branch's direction in the image, from `base_end` to `tip_end`: degrees from the image's
+  /// +x axis, counter-clockwise as seen with the image's y axis pointing up, in (−180°, 180°]
+  /// (0°: the branch runs out to the right, 90°: up the image, ±180°: to the left). Unlike
+  /// `slope_deg` it is signed and not folded, and it ignores the camera's roll: a drone yaws to
+  /// it in the image. Undefined (0) for a window of one point.
+  float heading_deg = 0;
   point3f position_m = point3f::Zero();  ///< camera-frame position when depth is known
-  bool has_position = false;             ///< whether `position_m` is set
+  point3f base_end_m = point3f::Zero();  ///< camera-frame position of `base_end` (with depth)
+  point3f tip_end_m = point3f::Zero();   ///< camera-frame position of `tip_end` (with depth)
+  /// Unit vector from `base_end_m` to `tip_end_m`: the branch's axis in 3-D (with depth).
+  point3f axis_m = point3f::Zero();
+  bool has_position = false;  ///< whether the camera-frame positions and axis are set
 };
 
 /// Options of the curvature estimate (paper table 2: central differences + moving average).

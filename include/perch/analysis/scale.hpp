@@ -29,11 +29,14 @@ struct scale_context {
   std::span<float> scratch{};   ///< at least `sample.size()` floats
 };
 
-/// A window's own scale, and its camera-frame position when depth is known.
+/// A window's own scale, and its camera-frame position when depth is known: of its middle
+/// point, and of its first and last points (in the order the window's points are given).
 struct local_scale {
   float mm_per_px = 0;
   bool has_position = false;
   point3f position_m = point3f::Zero();
+  point3f first_m = point3f::Zero();
+  point3f last_m = point3f::Zero();
 };
 
 /// A scale policy: a global mm/px for the whole tree (pruning lengths, window lengths) and a
@@ -65,7 +68,7 @@ struct fixed_scale {
   }
   [[nodiscard]] local_scale local(std::span<const pixel>, pixel, pixel, std::span<float>,
                                   float global) const noexcept {
-    return {global, false, point3f::Zero()};
+    return {global, false, point3f::Zero(), point3f::Zero(), point3f::Zero()};
   }
   /// The same scale for the image reduced by `factor` (see `find_perch`'s downscale).
   [[nodiscard]] result<fixed_scale> rescaled(float factor, workspace&) const noexcept {
@@ -92,7 +95,7 @@ struct trunk_prior {
   }
   [[nodiscard]] local_scale local(std::span<const pixel>, pixel, pixel, std::span<float>,
                                   float global) const noexcept {
-    return {global, false, point3f::Zero()};
+    return {global, false, point3f::Zero(), point3f::Zero(), point3f::Zero()};
   }
   /// Measured on whatever image it is given: unchanged by downscaling.
   [[nodiscard]] result<trunk_prior> rescaled(float, workspace&) const noexcept { return *this; }
@@ -112,7 +115,9 @@ struct pinhole {
 /// Scale from a depth image (millimetres along the optical axis, 0 = invalid) registered to
 /// the mask, and pinhole intrinsics: mm/px = Z / f at the median valid depth of each window's
 /// centreline pixels; the site's position is back-projected: X = (u − cx)·Z/fx,
-/// Y = (v − cy)·Z/fy, in metres.
+/// Y = (v − cy)·Z/fy, in metres. The window's two ends are back-projected at the median depth
+/// of their own quarter of the window (the window's when that quarter has none), so the
+/// branch's axis between them leans toward or away from the camera as the limb does.
 struct depth_scale {
   static constexpr std::string_view name = "depth";
   image_view<const std::uint16_t> depth_mm{};
@@ -133,11 +138,15 @@ struct depth_scale {
   [[nodiscard]] local_scale local(std::span<const pixel> window, pixel offset, pixel middle,
                                   std::span<float> scratch, float global) const noexcept {
     const float z = median_depth(window, offset, scratch);
-    if (!(z > 0)) return {global, false, point3f::Zero()};
-    const float zm = z / 1000.0f;
-    return {z / focal(), true,
-            point3f((static_cast<float>(middle.x) - intrinsics.cx) * zm / intrinsics.fx,
-                    (static_cast<float>(middle.y) - intrinsics.cy) * zm / intrinsics.fy, zm)};
+    if (!(z > 0)) return {global, false, point3f::Zero(), point3f::Zero(), point3f::Zero()};
+    const std::size_t quarter = std::max<std::size_t>(1, window.size() / 4);
+    auto end_at = [&](std::span<const pixel> part, pixel end) {
+      const float z_end = median_depth(part, offset, scratch);
+      return back_project({end.x + offset.x, end.y + offset.y}, z_end > 0 ? z_end : z);
+    };
+    return {z / focal(), true, back_project(middle, z),
+            end_at(window.first(quarter), window.front()),
+            end_at(window.last(quarter), window.back())};
   }
 
   /// The policy for the image reduced by `factor`: depth sampled at each reduced pixel's
@@ -165,6 +174,12 @@ struct depth_scale {
 
  private:
   [[nodiscard]] float focal() const noexcept { return 0.5f * (intrinsics.fx + intrinsics.fy); }
+  /// The camera-frame point (m) of image pixel `p` at depth `z_mm`.
+  [[nodiscard]] point3f back_project(pixel p, float z_mm) const noexcept {
+    const float zm = z_mm / 1000.0f;
+    return point3f((static_cast<float>(p.x) - intrinsics.cx) * zm / intrinsics.fx,
+                   (static_cast<float>(p.y) - intrinsics.cy) * zm / intrinsics.fy, zm);
+  }
   /// Median of the valid depths at `points` (0 when none); `scratch` ≥ points.size().
   [[nodiscard]] float median_depth(std::span<const pixel> points, pixel offset,
                                    std::span<float> scratch) const noexcept {

@@ -220,8 +220,17 @@ template <ScalePolicy Scale>
     const float along = from_front ? arc[m] : total_px - arc[m];
     w.origin_distance_mm = along * mm_per_px;
     w.origin_horizontal_mm = std::abs((to_point(branch.points[m]) - origin).dot(h)) * mm_per_px;
+    const std::size_t base = from_front ? a : b, tip = from_front ? b : a;
+    w.base_end = to_image(branch.points[base]);
+    w.tip_end = to_image(branch.points[tip]);
+    w.heading_deg = heading_deg(to_point(branch.points[tip]) - to_point(branch.points[base]));
     w.has_position = local.has_position;
     w.position_m = local.position_m;
+    w.base_end_m = from_front ? local.first_m : local.last_m;
+    w.tip_end_m = from_front ? local.last_m : local.first_m;
+    const point3f axis = w.tip_end_m - w.base_end_m;
+    const float axis_length = axis.norm();
+    w.axis_m = axis_length > 0 ? point3f(axis / axis_length) : point3f::Zero();
     PERCH_TRY(out.push_back(w));
   }
   return {};
