@@ -2,16 +2,22 @@
 // 1920×1080 and 4000×3000, clean and noisy, one thread, the workspace made once outside the
 // loop (for the tendon claw also in transparent huge pages). Counters: per-stage milliseconds
 // (medians are taken by --benchmark_repetitions), pixels/s, workspace bytes per pixel and heap
-// allocations per iteration (must be 0). With OpenCV, the same trees through its distance
-// transform and thinning, for the README's table.
+// allocations per iteration (must be 0); and the first call on a workspace whose memory comes
+// fresh from the kernel, against the warm call (issue 25: at most 3×). With OpenCV, the same
+// trees through its distance transform and thinning, for the README's table.
 #include <benchmark/benchmark.h>
 
+#include <sys/mman.h>
+
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <map>
+#include <memory_resource>
 #include <new>
+#include <string>
 #include <utility>
 
 #include "perch/core/huge_pages.hpp"
@@ -140,6 +146,59 @@ void find_perch_in_huge_pages(benchmark::State& state) {
 BENCHMARK(find_perch_in_huge_pages)
     ->Args({640, 480, 0})->Args({1920, 1080, 0})->Args({4000, 3000, 0})
     ->Unit(benchmark::kMillisecond);
+
+/// Pages straight from the kernel and back (mmap / munmap), as a process's first frame gets its
+/// heap blocks, hinted for transparent huge pages as the default workspace hints its own: every
+/// call on a workspace over it faults its memory in afresh.
+class fresh_pages final : public std::pmr::memory_resource {
+  void* do_allocate(std::size_t bytes, std::size_t) override {
+    void* p = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED) return nullptr;
+    perch::detail::pmr_blocks::hint_huge_pages(p, bytes);
+    return p;
+  }
+  void do_deallocate(void* p, std::size_t bytes, std::size_t) override { ::munmap(p, bytes); }
+  bool do_is_equal(const std::pmr::memory_resource& other) const noexcept override {
+    return this == &other;
+  }
+};
+
+/// A robot's first frame, or a tool's only call: `find_perch` on a new workspace whose memory
+/// comes fresh from the kernel (the workspace grows block by block, each page faulted in and
+/// zeroed). Counters: the warm call on a grown workspace (best of 5) and first / warm.
+void find_perch_first_call(benchmark::State& state) {
+  const auto& tree = tree_of(state);
+  const perch::fixed_scale scale{tree.mm_per_px};
+  perch::workspace grown;
+  double warm_ms = 1e30;
+  for (int i = 0; i < 6; ++i) {
+    const std::int64_t t0 = steady_ns();
+    auto found = perch::find_perch(tree.mask.view(), perch::tendon_claw{}, scale, grown);
+    const std::int64_t t1 = steady_ns();
+    if (!found) {
+      state.SkipWithError(std::string(found.error().message()).c_str());
+      return;
+    }
+    if (i > 0) warm_ms = std::min(warm_ms, static_cast<double>(t1 - t0) / 1e6);
+  }
+  double first_ms = 0;
+  for (auto _ : state) {
+    fresh_pages pages;
+    perch::workspace ws{&pages};
+    const std::int64_t t0 = steady_ns();
+    auto found = perch::find_perch(tree.mask.view(), perch::tendon_claw{}, scale, ws);
+    const std::int64_t t1 = steady_ns();
+    benchmark::DoNotOptimize(found);
+    state.SetIterationTime(static_cast<double>(t1 - t0) / 1e9);
+    first_ms += static_cast<double>(t1 - t0) / 1e6;
+  }
+  const double mean_ms = first_ms / static_cast<double>(state.iterations());
+  state.counters["warm_ms"] = benchmark::Counter(warm_ms);
+  state.counters["first/warm"] = benchmark::Counter(mean_ms / warm_ms);
+}
+BENCHMARK(find_perch_first_call)
+    ->Args({640, 480, 0})->Args({1920, 1080, 0})->Args({4000, 3000, 0})
+    ->UseManualTime()->Unit(benchmark::kMillisecond);
 
 #if PERCH_HAVE_OPENCV
 /// The same trees through OpenCV's nearest kernels, one thread, for the table next to the
