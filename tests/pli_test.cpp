@@ -463,6 +463,13 @@ TEST_CASE("find_perch: bad input gets a status, never a crash") {
   perch::perch_options enlarge;
   enlarge.downscale = 1.5f;
   CHECK(perch::find_perch(mask.view(), ws, enlarge).error().code == errc::invalid_parameter);
+  // The pruning's diameter range is the platform's: another is refused, not overwritten.
+  perch::perch_options own_range;
+  own_range.pruning.diameter_min_mm = 10.0f;
+  CHECK(perch::find_perch(mask.view(), ws, own_range).error().code == errc::invalid_parameter);
+  perch::perch_options bad_pruning;
+  bad_pruning.pruning.alpha = 2.0f;
+  CHECK(perch::find_perch(mask.view(), ws, bad_pruning).error().code == errc::invalid_parameter);
   // Dimensions: negative, more than 2^30 pixels, a stride whose product with the height overflows.
   const int huge = std::numeric_limits<int>::max();
   CHECK(perch::find_perch(perch::image_view<const std::uint8_t>(mask.data(), -1, 10), ws)

@@ -45,7 +45,10 @@ struct perch_options {
   attitude camera{};       ///< camera roll, so slopes are measured against the true horizontal
   float stride_mm = 20.0f;             ///< distance between window starts
   float curvature_stencil_mm = 40.0f;  ///< see `window_options::curvature_stencil_mm`
-  prune_options pruning{};             ///< eq. 1 weights and pruning thresholds
+  /// Eq. 1 weights and pruning thresholds. Its diameter range is the platform's grasp range
+  /// (`platform_geometry::grasp_min_mm`, `grasp_max_mm`): left at its defaults here, since a
+  /// platform states it once; `validate` refuses another.
+  prune_options pruning{};
   limb_options limbs{};                ///< when windows run on through a junction
   obstacle_options obstacles{};        ///< which other limbs a window's clearance counts
   rank_options ranking{};              ///< top-k and the distance between ranked sites
@@ -68,6 +71,11 @@ struct perch_options {
       return fail(errc::invalid_parameter, "perch_options.ranking");
     if (max_windows == 0) return fail(errc::invalid_parameter, "perch_options.max_windows");
     if (max_hole_px < 0) return fail(errc::invalid_parameter, "perch_options.max_hole_px");
+    if (auto pruning_ok = pruning.validate(); !pruning_ok) return pruning_ok;
+    if (pruning.diameter_min_mm != prune_options{}.diameter_min_mm ||
+        pruning.diameter_max_mm != prune_options{}.diameter_max_mm)
+      return fail(errc::invalid_parameter,
+                  "perch_options.pruning.diameter_*: find_perch prunes with the platform's grasp range");
     if (auto limbs_ok = limbs.validate(); !limbs_ok) return limbs_ok;
     if (auto obstacles_ok = obstacles.validate(); !obstacles_ok) return obstacles_ok;
     return camera.validate();
@@ -147,18 +155,6 @@ class stage_clock {
   clock_ns_fn clock_;
   std::int64_t start_, last_;
 };
-
-/// The scale policy for the analysed image at `factor`.
-template <ScalePolicy Scale>
-[[nodiscard]] result<Scale> rescale(const Scale& scale, float factor, workspace& ws) noexcept {
-  if constexpr (requires { scale.rescaled(factor, ws); }) {
-    return scale.rescaled(factor, ws);
-  } else {
-    if (factor != 1.0f)
-      return fail(errc::invalid_parameter, "this scale policy has no rescaled(): use downscale 1");
-    return scale;
-  }
-}
 
 /// Every limb's `limb_neighbourhood` (its points, radii, the owners it leaves out and an empty
 /// gap cache), for `limb_clearance`.
@@ -247,7 +243,7 @@ template <BinaryView Mask, ScalePolicy Scale>
   // Checked against the input before rescaling reads it (a depth view of another size, or a
   // null one, must not be resampled).
   PERCH_TRY(scale.validate(scale_context{mask.width(), mask.height(), 0, {}, {}, {}}));
-  auto scaled = rescale(scale, options.downscale, ws);
+  auto scaled = scale.rescaled(options.downscale, ws);
   if (!scaled) return unexpected{scaled.error()};
   s.scaled.emplace(*scaled);
   s.context = {prepared->analysed_width, prepared->analysed_height, 0, {}, prepared->offset, {}};

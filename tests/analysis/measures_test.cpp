@@ -15,6 +15,27 @@
 
 namespace {
 
+// A scale policy is the whole concept: one that cannot say its scale for a reduced image
+// (`rescaled`) is refused where it is passed, not at run time with a downscale.
+struct scale_without_rescaled {
+  static constexpr std::string_view name = "partial";
+  perch::status validate(const perch::scale_context&) const noexcept { return {}; }
+  perch::result<float> global_mm_per_px(const perch::scale_context&) const noexcept { return 2.0f; }
+  perch::local_scale local(std::span<const perch::pixel>, perch::pixel, perch::pixel,
+                           std::span<float>, float global) const noexcept {
+    return {global};
+  }
+};
+struct scale_with_rescaled : scale_without_rescaled {
+  perch::result<scale_with_rescaled> rescaled(float, perch::workspace&) const noexcept {
+    return *this;
+  }
+};
+static_assert(!perch::ScalePolicy<scale_without_rescaled>);
+static_assert(perch::ScalePolicy<scale_with_rescaled>);
+static_assert(perch::ScalePolicy<perch::fixed_scale> && perch::ScalePolicy<perch::trunk_prior> &&
+              perch::ScalePolicy<perch::depth_scale>);
+
 // An 8-connected digital line from (0, 0) at `angle_deg` (image y down), `length` px long.
 std::vector<perch::pixel> digital_line(float angle_deg, float length) {
   const float a = angle_deg * std::numbers::pi_v<float> / 180.0f;

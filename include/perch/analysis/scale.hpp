@@ -44,13 +44,17 @@ struct local_scale {
 /// `local(window, offset, middle, scratch, global)` gets the window's centreline points (plus
 /// `offset` = image coordinates), its middle point in image coordinates, scratch of at least
 /// `window.size()` floats, and the global scale to fall back on.
+/// `rescaled(factor, ws)` is the same policy for the image reduced by `factor` ∈ (0, 1]
+/// (`perch_options::downscale`; workspace memory for what it resamples): required, so that a
+/// policy that cannot be reduced fails at compile time, not at run time with a downscale.
 template <class S>
 concept ScalePolicy = requires(const S& s, const scale_context& c, std::span<const pixel> window,
-                               pixel p, std::span<float> scratch) {
+                               pixel p, std::span<float> scratch, workspace& ws) {
   { S::name } -> std::convertible_to<std::string_view>;
   { s.validate(c) } noexcept -> std::same_as<status>;
   { s.global_mm_per_px(c) } noexcept -> std::same_as<result<float>>;
   { s.local(window, p, p, scratch, float{}) } noexcept -> std::same_as<local_scale>;
+  { s.rescaled(float{}, ws) } noexcept -> std::same_as<result<S>>;
 };
 
 /// A known, constant scale (e.g. from a calibrated camera at a known distance).
