@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSL-1.0
 # Install rules: headers, the exported perch::perch target, and a relocatable package config.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSL-1.0
 # Installs the Debian 12 packages perch's build needs that this machine lacks: with apt-get when
 # run as root (or through sudo when available), else prints the exact command to run.
 # Usage: scripts/install-deps.sh [extra-package ...]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 #include "annotate.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `--annotate`: a picture of `find_perch`'s answer a person reads at a glance.
 #pragma once

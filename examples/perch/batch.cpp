@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // perch batch DIR --out DIR: detect on every PNG of a directory, in parallel.
 #include <algorithm>
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // perch detect MASK.png: the best perch sites of one mask, as JSON (and a picture).
 #include <cstdio>
 

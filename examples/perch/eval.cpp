@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // perch eval: detect on synthetic trees (files from perch synth, or a built-in population made
 // in memory), each chosen site judged by the full truth (support::perch_truth), reported with
 // the paper's four outcomes per family, per rule broken, per knob and per knife-edge tree.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // perch: the command-line tool of the perch library (see `perch --help`).
 #include <cstdio>
 #include <string_view>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // The shared part of the perch tool: options, loading, and `analyse` (find_perch + outputs).
 #include <chrono>
 #include <cstdio>

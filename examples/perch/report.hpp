@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The perch tool's JSON documents: `perch detect` (issue 6's shape, which other tools rely
 /// on) and `perch graph`. Byte-deterministic: the same result gives the same bytes (numbers in

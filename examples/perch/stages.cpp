@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // perch skeleton / perch graph: one stage's output, for people who want just that.
 #include <algorithm>
 #include <cmath>

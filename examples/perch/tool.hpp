@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// What the perch tool's subcommands share: exit codes, the pipeline options every analysing
 /// subcommand takes (platform, scale, roll, top-k, downscale), loading masks, and `analyse`,

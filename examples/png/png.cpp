@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // The tiny PNG reader and writer (see png/png.hpp). Written from the PNG specification
 // (ISO/IEC 15948:2003, W3C PNG Second Edition): chunk layout §5, CRC Annex D, header §11.2.2,
 // filters §9, Adam7 §8.2, scanline packing §7.2. zlib (RFC 1950/1951) does inflate/deflate.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Analysis: from a branch's centreline (points + radii) to windows one drone width long and
 /// their measures (slope against the true horizontal, curvature, diameters, monotonicity,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Core vocabulary. Consumes nothing; produces what every stage uses: `image_view` and its
 /// concepts, `result`/`status`/`errc`, the `workspace`, `bounded_vector`, and Eigen points.

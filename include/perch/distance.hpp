@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Distance stage. Consumes a binary mask (any `BinaryView`, non-zero = tree); produces the
 /// exact Euclidean distance from every tree pixel to the nearest background pixel centre:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Stage "skeleton graph". Consumes a one-pixel-thin skeleton (any `BinaryView`, non-zero =
 /// skeleton) and its squared distance map (`image_view<const std::uint32_t>`, radius = √dist2

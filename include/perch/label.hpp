@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Labelling stage. Consumes a binary mask (any `BinaryView`: non-zero = foreground) and a
 /// workspace; produces an int32 label image numbered 1..n in raster order of each component's

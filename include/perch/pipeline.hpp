@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The stages of `find_perch` (perch/pli.hpp) and what they share: its options, its result, and
 /// the glue between the graph and the analysis (windows on limbs, their surroundings), so that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Platforms: the `Platform` concept and the five drones of the PLI paper, each a type composed
 /// of constraint and scorer policies. Consumes policies; produces what `find_perch` is given.

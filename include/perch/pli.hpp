@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// perch: where a tree-perching drone should grasp a tree (the PLI method of "Perch Location
 /// Identification", with the reference prototype's defects fixed and the paper's future work

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Policies: the `Constraint` and `Scorer` concepts, the paper's constraints (viability) and
 /// penalty (eq. 3), and composites. Consumes `window_measures` (and a `window_context` for

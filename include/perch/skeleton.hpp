@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Skeleton stage. Consumes a binary mask (non-zero = tree) and its squared distance map (from
 /// the distance stage); produces a skeleton image (1 = skeleton pixel), one pixel thin and

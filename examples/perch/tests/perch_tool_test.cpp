@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Tests of the perch tool: runs the built program on the sample data and checks exit codes,
 // the JSON documents (parsed, fields present) and the pictures (decoded, input's size).
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN

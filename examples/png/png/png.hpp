@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// A tiny PNG reader and writer for perch's host code (the tool, the examples, the tests).
 /// It lives in `examples/`, never in `include/perch/`: the library itself does no I/O.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `arg_parser`: a small command-line parser for one subcommand of the perch tool. Host code,
 /// not part of the library. No exceptions: every problem comes back as a message string.
