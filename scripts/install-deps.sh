@@ -2,10 +2,17 @@
 # SPDX-License-Identifier: BSL-1.0
 # Installs the Debian 12 packages perch's build needs that this machine lacks: with apt-get when
 # run as root (or through sudo when available), else prints the exact command to run.
-# Usage: scripts/install-deps.sh [extra-package ...]
+# Usage: scripts/install-deps.sh [--demo] [extra-package ...]
+#   --demo: only what the demo needs (the library, the perch tool), not the test frameworks.
 set -euo pipefail
 
-packages=(cmake ninja-build g++ libeigen3-dev doctest-dev libbenchmark-dev zlib1g-dev "$@")
+packages=(cmake ninja-build g++ libeigen3-dev zlib1g-dev)
+if [ "${1:-}" = "--demo" ]; then
+  shift
+else
+  packages+=(doctest-dev libbenchmark-dev)
+fi
+packages+=("$@")
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
