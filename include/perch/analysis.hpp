@@ -6,6 +6,8 @@
 /// attitude; plus clearance queries around a window.
 #pragma once
 
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
+
 #include "perch/analysis/attitude.hpp"
 #include "perch/analysis/clearance.hpp"
 #include "perch/analysis/measures.hpp"

@@ -5,6 +5,8 @@
 /// (The owning `image<T>` for host code is in `perch/core/image.hpp`, included on demand.)
 #pragma once
 
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
+
 #include "perch/core/assert.hpp"
 #include "perch/core/bounded_vector.hpp"
 #include "perch/core/disc_index.hpp"

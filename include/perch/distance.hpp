@@ -7,5 +7,7 @@
 /// (`distance_transform`). Meijster, Roerdink & Hesselink 2000, linear time.
 #pragma once
 
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
+
 #include "perch/core.hpp"
 #include "perch/distance/distance_transform.hpp"

@@ -8,6 +8,8 @@
 /// Also offers the generic `adjacency_list` it is built on.
 #pragma once
 
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
+
 #include "perch/core.hpp"
 #include "perch/graph/adjacency_list.hpp"
 #include "perch/graph/pixel_kinds.hpp"

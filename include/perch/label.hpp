@@ -7,6 +7,8 @@
 /// mask's topology (`count_topology`). Builds on core only.
 #pragma once
 
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
+
 #include "perch/label/components.hpp"
 #include "perch/label/connectivity.hpp"
 #include "perch/label/holes.hpp"

@@ -5,6 +5,8 @@
 /// `analysis/` never includes `graph/` and the facade reads as the pipeline.
 #pragma once
 
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

@@ -4,6 +4,8 @@
 /// of constraint and scorer policies. Consumes policies; produces what `find_perch` is given.
 #pragma once
 
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
+
 #include "perch/platform/metamorphic.hpp"
 #include "perch/platform/ornithopter.hpp"
 #include "perch/platform/platform.hpp"

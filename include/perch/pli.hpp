@@ -8,6 +8,8 @@
 ///        → windows + measures → constraints → scorer → ranked perch sites + diagnostics
 #pragma once
 
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>

@@ -5,6 +5,8 @@
 /// clearance); produces a verdict (by how much a window misses) and a penalty per window.
 #pragma once
 
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
+
 #include "perch/policy/composites.hpp"
 #include "perch/policy/concepts.hpp"
 #include "perch/policy/constraints.hpp"

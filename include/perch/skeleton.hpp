@@ -7,6 +7,8 @@
 /// homotopic thinning), `zhang_suen` (1984) and `guo_hall` (1989).
 #pragma once
 
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
+
 #include "perch/core.hpp"
 #include "perch/distance.hpp"
 #include "perch/skeleton/medial_axis.hpp"
