@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Core view operations: the cost of one read of a mask through a strided view, the floor every
 // pipeline stage is measured against.
 #include <benchmark/benchmark.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Distance stage: the exact Euclidean distance transform on synthetic tree masks (thick
 // branching strokes, ~10-20 % foreground) and a 50 % blob mask, at 640x480, 1920x1080 and
 // 4000x3000; with OpenCV, cv::distanceTransform(DIST_L2, DIST_MASK_PRECISE) on the same masks,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Skeleton graph stage: pixel kinds, junction clusters, branch tracing and the adjacency list
 // (build), then eq. 1 weighting and pruning (build + prune), on a synthetic branched skeleton:
 // a binary tree of digital segments with short spurs along every branch, as a medial axis of a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // The kernel benchmarks' masks (distance_bench, skeleton_bench): a deterministic branching
 // tree of thick strokes (~10-14 % foreground, touching the bottom edge) and a 50 % blob mask.
 #pragma once

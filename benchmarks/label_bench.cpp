@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Labelling stage: perch::label_components (8-connectivity, with and without statistics) and
 // perch::count_topology on deterministic synthetic masks at 640×480, 1920×1080 and 4000×3000,
 // and perch::fill_small_holes (pinholes of up to 4 pixels, `find_perch`'s default) on the same:

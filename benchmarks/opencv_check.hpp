@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // What the benchmarks' OpenCV comparisons check first: that cv::distanceTransform (DIST_L2,
 // DIST_MASK_PRECISE) gives perch's exact distances on the same mask.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // find_perch end to end (issue 8): every platform on the synthetic benchmark trees at 640×480,
 // 1920×1080 and 4000×3000, clean and noisy, one thread, the workspace made once outside the
 // loop (for the tendon claw also in transparent huge pages). Counters: per-stage milliseconds

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Skeleton stage: medial axis, Zhang-Suen and Guo-Hall (default one-pixel mode, and faithful
 // for the thinning methods) on synthetic tree masks at 640x480, 1920x1080 and 4000x3000 and a
 // 50 % blob mask; with OpenCV's ximgproc, cv::ximgproc::thinning on the same masks, reporting

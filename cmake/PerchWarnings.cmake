@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSL-1.0
 # perch_warnings: the warning flags for perch's own tests, examples and benchmarks. Never on
 # perch::perch itself, so a user's build never inherits perch's warning policy.
 add_library(perch_warnings INTERFACE)

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSL-1.0
 # A/B timing of a change: `scripts/ab.sh [REV] [WIDTH HEIGHT CALLS [noisy]]` compiles perch at
 # REV (default HEAD) as side a and the working tree as side b into one binary
 # (benchmarks/ab/), checks that both give the same results over 44 synthetic trees, and times

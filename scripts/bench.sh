@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSL-1.0
 # Benchmarks: installs missing Debian packages (OpenCV too, for side-by-side timings of its
 # kernels), then the `bench` workflow: Release, every benchmark executable one after another
 # (one thread each), output printed.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSL-1.0
 # Runs every libFuzzer target for SECONDS each (default 60) with clang 16, ASan and UBSan.
 # Seeds come from the sample masks (examples/data/) and tests/fuzz/corpus/; findings are written
 # to build/fuzz/findings/<target>/ (each run's whole log to build/fuzz/<target>.log) and should

@@ -1,13 +1,22 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSL-1.0
 # Installs the Debian 12 packages perch's build needs that this machine lacks: with apt-get when
 # run as root (or through sudo when available), else prints the exact command to run.
-# Usage: scripts/install-deps.sh [extra-package ...]
+# Usage: scripts/install-deps.sh [--demo] [extra-package ...]
+#   --demo: only what the demo needs (the library, the perch tool), not the test frameworks.
 set -euo pipefail
 
-# The cross compilers and qemu build and run the aarch64, armhf and Cortex-M7 targets.
-packages=(cmake ninja-build g++ libeigen3-dev doctest-dev libbenchmark-dev zlib1g-dev
-          g++-aarch64-linux-gnu g++-arm-linux-gnueabihf gcc-arm-none-eabi
-          libstdc++-arm-none-eabi-newlib qemu-user qemu-system-arm "$@")
+packages=(cmake ninja-build g++ libeigen3-dev zlib1g-dev)
+if [ "${1:-}" = "--demo" ]; then
+  shift
+else
+  # The test frameworks; the cross compilers and qemu build and run the aarch64, armhf and
+  # Cortex-M7 targets.
+  packages+=(doctest-dev libbenchmark-dev
+             g++-aarch64-linux-gnu g++-arm-linux-gnueabihf gcc-arm-none-eabi
+             libstdc++-arm-none-eabi-newlib qemu-user qemu-system-arm)
+fi
+packages+=("$@")
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSL-1.0
 # Builds and runs every test: installs missing Debian packages, then the `test` workflow
 # (warnings as errors, consumer projects, header self-containment, the host's site hashes),
 # then the `firmware` workflow (-fno-exceptions -fno-rtti), then the `asan` workflow

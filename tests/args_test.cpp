@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 #include "support/args.hpp"
 
 #include <doctest/doctest.h>
@@ -181,4 +182,26 @@ TEST_CASE("arg_parser: argc/argv entry point and helpers") {
         "  detect  find the best perch site\n"
         "  batch   run detect on every PNG in DIR\n"
         "\nRun 'perch <command> --help' for a command's options.\n");
+}
+
+TEST_CASE("arg_parser: --version only when set, anywhere before --, listed in the help") {
+  auto p = detect_parser();
+  CHECK(parse(p, {"--version"}) != "");  // not declared: an unknown option
+  p.set_version("perch 1.2.3");
+  REQUIRE(parse(p, {"--top", "x", "--version"}) == "");  // like --help: the rest is not checked
+  CHECK(p.version_requested());
+  CHECK(p.version() == "perch 1.2.3");
+  CHECK(p.help().find("--version") != std::string::npos);
+  REQUIRE(parse(p, {"mask.png", "--", "--version"}) != "");  // after "--": a positional, one too many
+  CHECK_FALSE(p.version_requested());
+}
+
+TEST_CASE("arg_parser: a one_or_more positional takes every remaining argument") {
+  arg_parser p("perch batch", "Merges shards.");
+  p.add_positional("SHARD_DIR", "a shard's output", perch::support::arg_presence::one_or_more);
+  CHECK(parse(p, {}) == "missing argument SHARD_DIR");
+  REQUIRE(parse(p, {"a", "b", "c"}) == "");
+  CHECK(p.positionals().size() == 3);
+  CHECK(p.positional("SHARD_DIR") == "a");
+  CHECK(p.help().find("SHARD_DIR...") != std::string::npos);
 }

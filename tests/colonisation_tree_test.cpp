@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Tests of the space-colonisation tree family (examples/support/support/colonisation_tree.hpp):
 // determinism, the truth's structure (grounded trunk, parents first, bases on the parent's
 // axis, pipe model), the mask against a redraw of the truth, and the defects.

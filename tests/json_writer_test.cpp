@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 #include "support/json_writer.hpp"
 
 #include <doctest/doctest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // End-to-end accuracy of find_perch on synthetic trees with ground truth (issue 24): two
 // differently built tree families (examples/support/support/population.hpp: forks and side limbs
 // on bent arcs; crowns grown by space colonisation), each varied widely, judged by the physical

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Invariants of find_perch on many random and synthetic masks (issue 7, item 5), for every
 // platform, both scale policies and both analysis resolutions: every reported site lies inside
 // the image, on the mask and (at full resolution) on the pruned skeleton, at the middle of the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Tests for support/progress.hpp and support/parallel_for.hpp (the pieces of `perch batch`).
 #include "support/progress.hpp"
 

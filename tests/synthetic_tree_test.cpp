@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Tests of the synthetic tree generator (examples/support/support/synthetic_tree.hpp): the masks
 // the benchmarks, the tool's `synth` subcommand and the pipeline tests rely on, and their truth.
 #include "support/synthetic_tree.hpp"

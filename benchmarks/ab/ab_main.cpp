@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // `scripts/ab.sh`: two revisions of perch in one binary, their `find_perch` calls interleaved
 // (a, b, then b, a, …) so that a shared machine's slow minutes fall on both; prints per stage
 // the median of each and the median of the paired differences, and whether both give the same

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // One side of `scripts/ab.sh`: the library of one revision, compiled with its namespace renamed
 // (-Dperch=perch_a or perch_b) so that two revisions live in one binary, and its entry points
 // named by AB_RUN and AB_HASH.

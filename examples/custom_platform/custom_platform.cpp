@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // A sixth platform, composed in user code without touching perch: a sleeve gripper that slides
 // a padded collar over the branch. The collar only closes on a stretch of nearly constant
 // diameter, so it brings a constraint of its own (`uniform_diameter`) and a scorer of its own

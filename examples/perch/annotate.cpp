@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 #include "annotate.hpp"
 
 #include <algorithm>
@@ -17,6 +18,7 @@ namespace perch::tool {
 namespace {
 
 using support::draw_point;
+using support::text_width;
 using support::rgb;
 namespace colours = support::colours;
 
@@ -178,6 +180,7 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
   const auto needed_mm = [&](const window_measures& m) {
     return envelope.margin_mm + envelope.uncertainty_px * m.mm_per_px;
   };
+  std::vector<support::text_box> labels;  // the legend keeps off them
   for (const near_miss& m : r.near_misses) {
     if (!m.present) continue;
     const std::vector<draw_point> pts = window_points(f, m.window);
@@ -186,10 +189,10 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
     support::draw_polyline(canvas, pts, miss_colour, 3.0f * stroke, 0.45f);
     if (!pts.empty()) {
       const draw_point c = pts[pts.size() / 2];
-      support::draw_text(canvas, static_cast<int>(c.x + 2.0f * stroke), static_cast<int>(c.y + 2.0f * stroke),
+      labels.push_back(support::draw_text(canvas, static_cast<int>(c.x + 2.0f * stroke), static_cast<int>(c.y + 2.0f * stroke),
                          miss_label(m), miss_colour,
                          {.scale = text_scale, .alpha = 0.9f, .background = colours::black,
-                          .background_alpha = 0.5f});
+                          .background_alpha = 0.5f}));
     }
   }
   for (std::size_t i = r.sites.size(); i-- > 0;) {
@@ -217,8 +220,8 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
   for (std::size_t i = 1; i < r.sites.size(); ++i) {
     const pixel c = r.sites[i].window.centre;
     const std::string label = "#" + std::to_string(i + 1);
-    support::draw_text(canvas, c.x + static_cast<int>(3.0f * stroke), c.y - static_cast<int>(6.0f * stroke),
-                       label, site_colour, {.scale = text_scale, .background = colours::black, .background_alpha = 0.6f});
+    labels.push_back(support::draw_text(canvas, c.x + static_cast<int>(3.0f * stroke), c.y - static_cast<int>(6.0f * stroke),
+                       label, site_colour, {.scale = text_scale, .background = colours::black, .background_alpha = 0.6f}));
   }
   // 6. Status line and legend.
   std::string status;
@@ -237,16 +240,23 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
   else
     status = std::string(r.platform) + ": NO TREE in the mask";
   status += format("\n%.2f mm/px", static_cast<double>(r.mm_per_px)) + " (" + std::string(r.scale) + ")";
-  support::draw_text(canvas, 6 * text_scale, 6 * text_scale, status,
-                     r.outcome == perch_outcome::found ? perch_colour : miss_colour,
-                     {.scale = text_scale, .background = colours::black, .background_alpha = 0.7f, .padding_px = 3 * text_scale});
+  // The title's scale: the largest that fits the picture's width (never clipped above 1).
+  int title_scale = text_scale;
+  while (title_scale > 1 && text_width(status, title_scale) + 2 * 3 * title_scale + 12 * title_scale > canvas.width())
+    --title_scale;
+  const support::text_box title =
+      support::draw_text(canvas, 6 * title_scale, 6 * title_scale, status,
+                         r.outcome == perch_outcome::found ? perch_colour : miss_colour,
+                         {.scale = title_scale, .background = colours::black, .background_alpha = 0.7f,
+                          .padding_px = 3 * title_scale});
 
   const std::string ramp = format("diameter 0-%.0f mm", static_cast<double>(diameter_top_mm));
   const std::string envelope_label = format("clearance: r + %.0f mm", static_cast<double>(envelope.margin_mm));
   const support::legend_entry entries[] = {
       {.label = ramp, .marker = support::legend_marker::ramp},
       {.label = "pruned skeleton", .colour = pruned_colour, .marker = support::legend_marker::line, .alpha = 0.6f},
-      {.label = "junction / end", .colour = colours::white, .marker = support::legend_marker::dot},
+      {.label = "junction", .colour = colours::white, .marker = support::legend_marker::dot},
+      {.label = "branch end", .colour = end_colour, .marker = support::legend_marker::dot},
       {.label = "trunk node", .colour = trunk_colour, .marker = support::legend_marker::outline},
       {.label = "ranked windows", .colour = site_colour, .marker = support::legend_marker::line},
       {.label = "near misses", .colour = miss_colour, .marker = support::legend_marker::line, .alpha = 0.45f},
@@ -273,6 +283,11 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
     const int x1 = std::min(canvas.width(), corners[k][0] + box.width);
     const int y1 = std::min(canvas.height(), corners[k][1] + box.height);
     long cost = 0;
+    const auto covers = [&](const support::text_box& b) {
+      return x0 < b.x + b.width && b.x < x1 && y0 < b.y + b.height && b.y < y1;
+    };
+    if (covers(title)) cost += 1L << 41;  // never over the title
+    for (const support::text_box& label : labels) cost += covers(label) ? 1L << 36 : 0;  // nor a label
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) cost += mask(x, y) != 0 ? 1 : 0;
     if (!r.sites.empty()) {
@@ -304,7 +319,7 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
     support::draw_circle(canvas, rect.centre, 0.5f * rect.length + 4.0f * stroke, perch_colour, stroke, 0.8f);
     support::fill_rotated_rect(canvas, rect, perch_colour, 0.3f);
     support::draw_rotated_rect(canvas, rect, perch_colour, std::max(2.0f, 0.8f * stroke));
-    const std::string label = format("slope %.0f deg, d %.0f mm", static_cast<double>(m.slope_deg),
+    const std::string label = format("#1 slope %.0f deg, d %.0f mm", static_cast<double>(m.slope_deg),
                                      static_cast<double>(m.claw_diameter_mm));
     const int w = support::text_width(label, text_scale);
     const int h = support::text_height(label, text_scale);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `--annotate`: a picture of `find_perch`'s answer a person reads at a glance.
 #pragma once
@@ -34,8 +35,9 @@ inline constexpr png::rgb8 envelope_rgb{255, 110, 255};
 ///     centreline points dilated by their radius + the margin, the region that must be free of
 ///     other limbs, in `envelope_rgb`;
 ///   - the chosen perch as a yellow rectangle claw width × diameter along the branch, labelled
-///     "slope 12 deg, d 54 mm";
-///   - a status line and a legend.
+///     "#1 slope 12 deg, d 54 mm" (the other ranked sites "#2", "#3", ...);
+///   - a status line (its scale reduced until it fits the width) and a legend of exactly what
+///     is drawn, in the corner that hides the least tree, never the title or the chosen perch.
 /// The picture has the input's size. `photo`, when given, must have the mask's size.
 [[nodiscard]] image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geometry,
                                         const clearance_envelope& envelope,

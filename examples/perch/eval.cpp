@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // perch eval: detect on synthetic trees (files from perch synth, or a built-in population made
 // in memory), each chosen site judged by the full truth (support::perch_truth), reported with
 // the paper's four outcomes per family, per rule broken, per knob and per knife-edge tree.
@@ -629,11 +630,13 @@ int run_eval(int argc, const char* const* argv) {
         classify_file(rec);
         rec.built_without_perch = truth.kind == "no-perch";
         st::synthetic_tree tree;
-        if (std::string e = load_mask(masks[i], tree.mask); !e.empty()) {
+        loaded_mask loaded;
+        if (std::string e = load_mask(masks[i], mask_reading{}, loaded); !e.empty()) {
           rec.detail = std::move(e);
           progress.tick();
           return rec;
         }
+        tree.mask = std::move(loaded.pixels);
         if (tree.mask.width() != truth.width || tree.mask.height() != truth.height) {
           rec.detail = masks[i].string() + " is not the truth's size";
           progress.tick();
@@ -721,6 +724,8 @@ int run_eval(int argc, const char* const* argv) {
   if (const auto path = args.value("json")) {
     st::json_writer json(st::json_style::pretty);
     json.begin_object();
+    json.member("version", version);
+    json.member("input", population ? std::string(*args.value("population")) : std::string(*dir_arg));
     json.member("platform", platform).member("scale", scale);
     json.member("source", population ? "population" : "files");
     json.member("tolerance", "3 px + 3 % of the window length");

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// A small JSON reader (RFC 8259) for the perch tool's own files (truth JSON of `perch synth`)
 /// and its tests. Host code; no exceptions: a parse failure returns `std::nullopt` and a

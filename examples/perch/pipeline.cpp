@@ -1,8 +1,11 @@
+// SPDX-License-Identifier: BSL-1.0
 // The shared part of the perch tool: options, loading, and `analyse` (find_perch + outputs).
 #include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <type_traits>
+
+#include <unistd.h>
 
 #include "annotate.hpp"
 #include "report.hpp"
@@ -122,10 +125,21 @@ std::string read_pipeline_options(const support::arg_parser& args, depth_option 
   return {};
 }
 
-std::string load_mask(const std::filesystem::path& path, image<std::uint8_t>& mask) {
-  auto png = png::read_png_file(path);
-  if (!png) return png.error().message;
-  mask = png::to_mask(*png);
+std::string check_output_path(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return path.string() + " is a directory, not a file to write";
+  const std::filesystem::path parent = path.has_parent_path() ? path.parent_path() : ".";
+  if (!std::filesystem::is_directory(parent, ec))
+    return "cannot write " + path.string() + ": " + parent.string() + " is not a directory";
+  if (::access(parent.c_str(), W_OK) != 0)
+    return "cannot write " + path.string() + ": " + parent.string() + " is not writable";
+  return {};
+}
+
+std::string check_output_options(const support::arg_parser& args, std::initializer_list<std::string_view> options) {
+  for (const std::string_view option : options)
+    if (const auto path = args.value(option))
+      if (std::string e = check_output_path(std::string(*path)); !e.empty()) return "--" + std::string(option) + ": " + e;
   return {};
 }
 
@@ -169,8 +183,10 @@ analysis_output run(const analysis_request& request, const run_config& config, c
   out.sites.assign(r.sites.begin(), r.sites.end());
   out.mm_per_px = r.mm_per_px;
   out.total_ms = r.timing.total_ms;
-  if (request.detect_json) out.detect_json = detect_json(r);
-  if (request.graph_json) out.graph_json = graph_json(r);
+  out.reason = no_perch_reason(r, platform.geometry);
+  const document_source source{.input = request.input, .warnings = request.warnings};
+  if (request.detect_json) out.detect_json = detect_json(r, source, platform.geometry);
+  if (request.graph_json) out.graph_json = graph_json(r, source);
   if (request.annotation) {
     const platform_limits limits = limits_of(config.platform);
     const clearance_envelope envelope{.margin_mm = limits.has_clearance ? limits.clearance_mm : -1.0f,
@@ -220,6 +236,7 @@ void report_error(std::string_view command, std::string_view message) {
 
 bool parse_or_exit(support::arg_parser& args, int argc, const char* const* argv,
                    std::string_view command, int& exit) {
+  args.set_version("perch " + std::string(version));
   const std::string problem = args.parse(argc, argv, 2);
   if (!problem.empty()) {
     report_error(command, problem);
@@ -231,6 +248,11 @@ bool parse_or_exit(support::arg_parser& args, int argc, const char* const* argv,
   if (args.help_requested()) {
     const std::string help = args.help();
     std::fputs(help.c_str(), stdout);
+    exit = exit_ok;
+    return false;
+  }
+  if (args.version_requested()) {
+    std::printf("%s\n", args.version().c_str());
     exit = exit_ok;
     return false;
   }

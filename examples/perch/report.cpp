@@ -1,9 +1,13 @@
+// SPDX-License-Identifier: BSL-1.0
 #include "report.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string_view>
 
 #include "support/json_writer.hpp"
+#include "tool.hpp"
 
 namespace perch::tool {
 namespace {
@@ -29,7 +33,7 @@ void write_site(json_writer& json, const perch_site& s) {
   json.member("slope_max_deg", tidy(m.slope_max_deg)).member("bend_deg", tidy(m.bend_deg));
   json.member("penalty", tidy(s.penalty));
   json.member("branch", m.branch).member("component", m.component);
-  json.member("rank", s.rank);
+  json.member("rank", s.rank + 1);
   if (m.has_position) {
     json.key("position_m").begin_array(json_layout::single_line);
     for (int i = 0; i < 3; ++i) json.value(tidy(m.position_m[i]));
@@ -51,16 +55,61 @@ void write_coordinate(json_writer& json, const perch_result& r, float v) {
     json.value(std::round(v * 100.0f) / 100.0f);
 }
 
+/// The length of the longest limb, in analysed pixels (steps of 1 or √2).
+float longest_limb_px(const perch_result& r) {
+  float longest = 0;
+  for (const skeleton_limb& limb : r.limbs) {
+    float length = 0;
+    for (std::size_t i = 1; i < limb.points.size(); ++i) {
+      const bool diagonal = limb.points[i].x != limb.points[i - 1].x && limb.points[i].y != limb.points[i - 1].y;
+      length += diagonal ? std::numbers::sqrt2_v<float> : 1.0f;
+    }
+    longest = std::max(longest, length);
+  }
+  return longest;
+}
+
+std::string format_mm(float mm) { return std::to_string(static_cast<long>(std::lround(mm))) + " mm"; }
+
 }  // namespace
 
-std::string detect_json(const perch_result& r) {
+std::string_view status_name(perch_outcome outcome) noexcept {
+  switch (outcome) {
+    case perch_outcome::found:
+      return "ok";
+    case perch_outcome::no_perch:
+      return "no_perch";
+    case perch_outcome::no_tree:
+      break;
+  }
+  return "no_tree";
+}
+
+std::string no_perch_reason(const perch_result& r, const platform_geometry& geometry) {
+  if (r.outcome == perch_outcome::found) return {};
+  if (r.outcome == perch_outcome::no_tree) return "the mask has no tree pixel";
+  if (r.windows > 0) return "no window passed every constraint (see rejected and near_misses)";
+  if (r.limbs.empty()) return "no window measured: no limb is left after pruning (only twigs and spurs)";
+  const float analysed_mm_per_px = r.mm_per_px / r.mask.factor;
+  return "no window measured: no limb has a stretch clear of junctions one drone width (" +
+         format_mm(geometry.drone_width_mm) + ") long; the longest limb is " +
+         format_mm(longest_limb_px(r) * analysed_mm_per_px) + " end to end";
+}
+
+void write_source(json_writer& json, const document_source& source) {
+  json.member("version", version).member("input", source.input);
+  if (source.warnings.empty()) return;
+  json.key("warnings").begin_array();
+  for (const std::string& w : source.warnings) json.value(w);
+  json.end_array();
+}
+
+std::string detect_json(const perch_result& r, const document_source& source, const platform_geometry& geometry) {
   json_writer json(json_style::pretty);
   json.begin_object();
-  json.member("status", r.outcome == perch_outcome::found ? "ok" : "no_perch");
-  if (r.outcome == perch_outcome::no_tree)
-    json.member("reason", "no_tree: the mask has no tree pixel");
-  else if (r.outcome == perch_outcome::no_perch)
-    json.member("reason", "no window passed every constraint (see rejected and near_misses)");
+  write_source(json, source);
+  json.member("status", status_name(r.outcome));
+  if (r.outcome != perch_outcome::found) json.member("reason", no_perch_reason(r, geometry));
   json.key("image").begin_object(json_layout::single_line);
   json.member("width", r.width).member("height", r.height).end_object();
   json.member("mm_per_px", tidy(r.mm_per_px));
@@ -108,9 +157,10 @@ std::string detect_json(const perch_result& r) {
   return std::move(json).take();
 }
 
-std::string graph_json(const perch_result& r) {
+std::string graph_json(const perch_result& r, const document_source& source) {
   json_writer json(json_style::pretty);
   json.begin_object();
+  write_source(json, source);
   json.member("components", r.graph.component_count());
   json.member("mm_per_px", tidy(r.mm_per_px));
   json.key("nodes").begin_array();

@@ -1,8 +1,10 @@
+// SPDX-License-Identifier: BSL-1.0
 // perch skeleton / perch graph: one stage's output, for people who want just that.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
+#include "report.hpp"
 #include "support/json_writer.hpp"
 #include "tool.hpp"
 
@@ -64,13 +66,15 @@ int run_skeleton(int argc, const char* const* argv) {
   support::arg_parser args("perch skeleton",
                            "Writes the skeleton of a tree mask as an 8-bit PNG (255 = skeleton) of the\n"
                            "mask's size, and optionally the radius at every skeleton pixel.");
-  args.add_positional("MASK.png", "tree mask (any non-zero pixel is tree)");
+  args.add_positional("MASK.png", "tree mask (any non-zero pixel is tree), or - for standard input");
   args.add_option("out", "SKEL.png", "skeleton picture to write");
+  add_mask_options(args);
   args.add_option("method", "NAME", "medial-axis, zhang-suen or guo-hall", "medial-axis");
   args.add_option("radius-out", "RADIUS.png",
                   "16-bit PNG: round(16 x r) at skeleton pixels, r = Euclidean distance in px\n"
                   "from the pixel to the nearest background pixel; 0 elsewhere");
-  args.set_epilog("Prints {\"method\", \"width\", \"height\", \"skeleton_pixels\", \"radius_scale\"} on stdout.\n"
+  args.set_epilog("Prints {\"version\", \"input\", [\"warnings\"], \"method\", \"width\", \"height\", \"skeleton_pixels\",\n"
+                  "\"radius_scale\"} on stdout.\n"
                   "Example: perch skeleton examples/data/synth-1.png --out skel.png --radius-out radius.png");
   int exit = exit_ok;
   if (!parse_or_exit(args, argc, argv, "skeleton", exit)) return exit;
@@ -83,12 +87,21 @@ int run_skeleton(int argc, const char* const* argv) {
     report_error("skeleton", "missing option --out SKEL.png");
     return exit_usage;
   }
+  mask_reading reading;
+  std::string problem = read_mask_options(args, reading);
+  if (problem.empty()) problem = check_output_options(args, {"out", "radius-out"});
+  if (!problem.empty()) {
+    report_error("skeleton", problem);
+    return exit_usage;
+  }
   const std::string mask_path(*args.positional("MASK.png"));
-  image<std::uint8_t> mask;
-  if (const std::string e = load_mask(mask_path, mask); !e.empty()) {
+  loaded_mask loaded;
+  if (const std::string e = load_mask(mask_path, reading, loaded); !e.empty()) {
     report_error("skeleton", e);
     return exit_usage;
   }
+  report_warnings("skeleton", mask_path, loaded.warnings);
+  const image<std::uint8_t>& mask = loaded.pixels;
   workspace ws;
   auto made = visit_method(method.value, [&](const auto& m) { return skeletonise(mask, m, ws); });
   if (!made) {
@@ -110,6 +123,7 @@ int run_skeleton(int argc, const char* const* argv) {
   }
   support::json_writer json(support::json_style::pretty);
   json.begin_object();
+  write_source(json, {.input = mask_path, .warnings = loaded.warnings});
   json.member("method", method.value).member("width", mask.width()).member("height", mask.height());
   json.member("skeleton_pixels", made->pixels).member("radius_scale", radius_scale);
   json.end_object();
@@ -125,30 +139,38 @@ int run_graph(int argc, const char* const* argv) {
                            "Writes the skeleton graph find_perch analyses (after pruning) as JSON.\n"
                            "Pruning weighs branches by the platform's diameters and the scale, so the\n"
                            "platform and scale options apply.");
-  args.add_positional("MASK.png", "tree mask (any non-zero pixel is tree)");
+  args.add_positional("MASK.png", "tree mask (any non-zero pixel is tree), or - for standard input");
   args.add_option("json", "GRAPH.json", "write the JSON here instead of stdout");
+  add_mask_options(args);
   add_pipeline_options(args, depth_option::offered);
   args.set_epilog(
-      "JSON: {\"components\": N, \"mm_per_px\", \"nodes\": [{\"id\", \"x\", \"y\", \"kind\": \"junction\"|\"end\"|\n"
+      "JSON: {\"version\", \"input\", [\"warnings\"], \"components\": N, \"mm_per_px\", \"nodes\": [{\"id\", \"x\", \"y\", \"kind\": \"junction\"|\"end\"|\n"
       "       \"isolated\"|\"loop\", \"component\", \"trunk\"}], \"edges\": [{\"id\", \"from\", \"to\", \"length_px\",\n"
       "       \"mean_diameter_px\", \"type\", \"polyline\": [[x, y], ...]}]}\n"
       "Example: perch graph examples/data/synth-1.png --json graph.json");
   int exit = exit_ok;
   if (!parse_or_exit(args, argc, argv, "graph", exit)) return exit;
   run_config config;
-  if (const std::string e = read_pipeline_options(args, depth_option::offered, config); !e.empty()) {
-    report_error("graph", e);
+  mask_reading reading;
+  std::string problem = read_pipeline_options(args, depth_option::offered, config);
+  if (problem.empty()) problem = read_mask_options(args, reading);
+  if (problem.empty()) problem = check_output_options(args, {"json"});
+  if (!problem.empty()) {
+    report_error("graph", problem);
     return exit_usage;
   }
   const std::string mask_path(*args.positional("MASK.png"));
-  image<std::uint8_t> mask;
-  if (const std::string e = load_mask(mask_path, mask); !e.empty()) {
+  loaded_mask mask;
+  if (const std::string e = load_mask(mask_path, reading, mask); !e.empty()) {
     report_error("graph", e);
     return exit_usage;
   }
+  report_warnings("graph", mask_path, mask.warnings);
   workspace ws;
   analysis_request request;
-  request.mask = &mask;
+  request.mask = &mask.pixels;
+  request.input = mask_path;
+  request.warnings = mask.warnings;
   request.detect_json = false;
   request.graph_json = true;
   const analysis_output out = analyse(request, config, ws);

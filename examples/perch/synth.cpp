@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // perch synth: synthetic tree masks with their ground truth (and a few hand-made shapes).
 #include <algorithm>
 #include <cmath>

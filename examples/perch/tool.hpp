@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// What the perch tool's subcommands share: exit codes, the pipeline options every analysing
 /// subcommand takes (platform, scale, roll, top-k, downscale), loading masks, and `analyse`,
@@ -9,7 +10,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <initializer_list>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -20,6 +23,12 @@
 #include "support/args.hpp"
 
 namespace perch::tool {
+
+/// The tool's version: the CMake project's version, passed as PERCH_VERSION (one place).
+inline constexpr std::string_view version = PERCH_VERSION;
+
+/// The mask path that means standard input.
+inline constexpr std::string_view stdin_name = "-";
 
 /// Exit codes of every subcommand.
 inline constexpr int exit_ok = 0;        ///< success, including "no perch found"
@@ -105,12 +114,48 @@ void add_pipeline_options(support::arg_parser& args, depth_option depth);
 [[nodiscard]] std::string read_pipeline_options(const support::arg_parser& args, depth_option depth,
                                                 run_config& config);
 
-/// Reads a PNG mask (any non-zero sample is tree). Returns an error message (empty on success).
-[[nodiscard]] std::string load_mask(const std::filesystem::path& path, image<std::uint8_t>& mask);
+/// How a PNG becomes a tree mask: by default any non-zero colour sample is tree; `threshold`:
+/// tree where the 8-bit gray level is above it; `invert`: the other pixels are tree.
+struct mask_reading {
+  std::optional<std::uint8_t> threshold;
+  bool invert = false;
+};
+
+/// Declares --threshold and --invert; reads them (an error message, empty on success).
+void add_mask_options(support::arg_parser& args);
+[[nodiscard]] std::string read_mask_options(const support::arg_parser& args, mask_reading& reading);
+
+/// A tree mask (0/1) and why it is probably not one: a colour image, more than two grey levels
+/// (both unless a threshold was given), or an inverted look (tree on more than half of it or on
+/// along all four borders, on more than half of each).
+struct loaded_mask {
+  image<std::uint8_t> pixels;
+  std::vector<std::string> warnings;
+};
+
+/// Reads the PNG at `path` (`stdin_name`: standard input) as `reading` says. Returns an error
+/// message (empty on success): a path that is not a readable regular file, a corrupt PNG.
+[[nodiscard]] std::string load_mask(const std::filesystem::path& path, const mask_reading& reading,
+                                    loaded_mask& out);
+
+/// Prints "perch <command>: warning: <path>: <warning>" to stderr for each warning.
+void report_warnings(std::string_view command, const std::filesystem::path& path,
+                     std::span<const std::string> warnings);
+
+/// Why `path` cannot take an output file (an existing directory, a missing or unwritable
+/// parent directory), or an empty string. Checked before any analysis, so a bad output path
+/// is exit 2 with nothing written.
+[[nodiscard]] std::string check_output_path(const std::filesystem::path& path);
+/// `check_output_path` for each of `options` given on the command line: the first problem,
+/// "--option: ...", or an empty string.
+[[nodiscard]] std::string check_output_options(const support::arg_parser& args,
+                                               std::initializer_list<std::string_view> options);
 
 /// What `analyse` should produce.
 struct analysis_request {
   const image<std::uint8_t>* mask = nullptr;
+  std::string_view input;                 ///< the mask's path, for the JSON
+  std::span<const std::string> warnings;  ///< the mask's warnings, for the JSON
   const image<png::rgb8>* photo = nullptr;  ///< background for the picture (mask when null)
   bool detect_json = true;
   bool annotation = false;
@@ -122,6 +167,7 @@ struct analysis_output {
   int exit_code = exit_ok;  ///< exit_ok, or exit_usage / exit_internal with `error`
   std::string error;
   perch_outcome outcome = perch_outcome::no_tree;
+  std::string reason;             ///< why no perch (empty when found)
   std::vector<perch_site> sites;  ///< copies, input-image pixels
   float mm_per_px = 0;
   float total_ms = 0;
@@ -146,7 +192,8 @@ struct analysis_output {
 /// Prints "perch <command>: <message>" to stderr.
 void report_error(std::string_view command, std::string_view message);
 
-/// Parses `args` for `command`; prints help (returns exit_ok in `exit`) or the error.
+/// Parses `args` for `command`; prints help or the version (returns exit_ok in `exit`) or
+/// the error.
 /// Returns true when the caller should go on.
 [[nodiscard]] bool parse_or_exit(support::arg_parser& args, int argc, const char* const* argv,
                                  std::string_view command, int& exit);

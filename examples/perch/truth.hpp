@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Ground truth of a synthetic tree as JSON (written by `perch synth`, read by `perch eval`):
 /// `{"generator", "kind", "seed", "width", "height", "mm_per_px", "limbs": [{"kind":

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // The tiny PNG reader and writer (see png/png.hpp). Written from the PNG specification
 // (ISO/IEC 15948:2003, W3C PNG Second Edition): chunk layout §5, CRC Annex D, header §11.2.2,
 // filters §9, Adam7 §8.2, scanline packing §7.2. zlib (RFC 1950/1951) does inflate/deflate.
@@ -12,6 +13,7 @@
 #include <fstream>
 #include <limits>
 #include <string_view>
+#include <system_error>
 
 namespace perch::png {
 namespace {
@@ -713,6 +715,14 @@ png_result<decoded_png> read_png(std::span<const std::uint8_t> bytes, const read
 
 png_result<decoded_png> read_png_file(const std::filesystem::path& path,
                                       const read_options& options) {
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (status.type() == std::filesystem::file_type::not_found)
+    return make_error("'" + path.string() + "' does not exist");
+  if (status.type() == std::filesystem::file_type::directory)
+    return make_error("'" + path.string() + "' is a directory, not a PNG file");
+  if (!ec && status.type() != std::filesystem::file_type::regular)
+    return make_error("'" + path.string() + "' is not a regular file (a device, pipe or socket)");
   std::ifstream file(path, std::ios::binary | std::ios::ate);
   if (!file)
     return make_error("cannot open '" + path.string() + "': check the path and permissions");

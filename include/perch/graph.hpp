@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Stage "skeleton graph". Consumes a one-pixel-thin skeleton (any `BinaryView`, non-zero =
 /// skeleton) and its squared distance map (`image_view<const std::uint32_t>`, radius = √dist2
@@ -6,6 +7,8 @@
 /// trunk node of each component, eq. 1 weights, pruning, and distances to the trunk.
 /// Also offers the generic `adjacency_list` it is built on.
 #pragma once
+
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
 
 #include "perch/core.hpp"
 #include "perch/graph/adjacency_list.hpp"

@@ -1,8 +1,11 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The stages of `find_perch` (perch/pli.hpp) and what they share: its options, its result, and
 /// the glue between the graph and the analysis (windows on limbs, their surroundings), so that
 /// `analysis/` never includes `graph/` and the facade reads as the pipeline.
 #pragma once
+
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
 
 #include <algorithm>
 #include <cmath>

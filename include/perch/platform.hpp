@@ -1,7 +1,10 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Platforms: the `Platform` concept and the five drones of the PLI paper, each a type composed
 /// of constraint and scorer policies. Consumes policies; produces what `find_perch` is given.
 #pragma once
+
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
 
 #include "perch/platform/metamorphic.hpp"
 #include "perch/platform/ornithopter.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// perch: where a tree-perching drone should grasp a tree (the PLI method of "Perch Location
 /// Identification", with the reference prototype's defects fixed and the paper's future work
@@ -6,6 +7,8 @@
 ///   mask → distance transform → skeleton → skeleton graph → weighting + pruning
 ///        → windows + measures → constraints → scorer → ranked perch sites + diagnostics
 #pragma once
+
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
 
 #include <algorithm>
 #include <cmath>

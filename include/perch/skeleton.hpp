@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Skeleton stage. Consumes a binary mask (non-zero = tree) and its squared distance map (from
 /// the distance stage); produces a skeleton image (1 = skeleton pixel), one pixel thin and
@@ -5,6 +6,8 @@
 /// pixel. Methods behind the `Skeletoniser` concept: `medial_axis` (default; distance-ordered
 /// homotopic thinning), `zhang_suen` (1984) and `guo_hall` (1989).
 #pragma once
+
+#include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
 
 #include "perch/core.hpp"
 #include "perch/distance.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // A user's program: includes the one perch header and runs the library on a small mask.
 // Returns 0 when perch behaves, non-zero otherwise (the test checks the exit code).
 #include <perch/pli.hpp>

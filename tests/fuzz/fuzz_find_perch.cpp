@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Fuzz target: find_perch on arbitrary masks and parameters. The input bytes choose the size,
 // the platform, the scale (fixed, trunk prior, or a depth image that may be a column too wide
 // and have invalid samples) and the options (including NaN, zero and negative values), then

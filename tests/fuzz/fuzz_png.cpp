@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Fuzz target: the PNG reader must reject any byte string cleanly (a message, no crash, no UB)
 // and decode what it accepts consistently. Chunk CRCs are repaired first on odd-length inputs,
 // so the fuzzer also reaches the header, zlib, filter and palette code behind the CRC check.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Fuzz target: the skeleton graph on arbitrary skeletons (not necessarily thin or connected)
 // with arbitrary radii, then weighting, pruning at an arbitrary scale and trunk distances.
 // Checks the graph's invariants: each skeleton pixel in exactly one branch or node, the

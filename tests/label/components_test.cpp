@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 #include "perch/label/components.hpp"
 
 #include <doctest/doctest.h>

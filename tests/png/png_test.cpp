@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Tests of the tiny PNG reader and writer (examples/png/png/png.hpp).
 //
 // Hand-made PNGs are built here with an independent, obviously-correct encoder (zlib's crc32

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 #include "perch/policy/rank.hpp"
 
 #include <doctest/doctest.h>

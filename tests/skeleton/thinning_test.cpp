@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 #include "perch/skeleton/thinning.hpp"
 
 #include <doctest/doctest.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Counts global operator new calls, so a test can assert that a hot path allocates nothing:
 //   perch::test::allocation_scope scope;  ...call...;  CHECK(scope.count() == 0);
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // The doctest main shared by every test executable, and the global allocation counter that lets
 // tests assert a hot path allocates nothing (see allocation_counter.hpp).
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Tests of the perch tool: runs the built program on the sample data and checks exit codes,
 // the JSON documents (parsed, fields present) and the pictures (decoded, input's size).
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
@@ -56,12 +57,19 @@ fs::path scratch(const std::string& name) {
   return dir;
 }
 
+/// How `run_perch` runs the tool: standard input from a file, a shell command before it.
+struct run_options {
+  fs::path stdin_file;
+  std::string shell_prefix;  ///< e.g. "ulimit -v 200000;"
+};
+
 /// Runs `perch ARGS...` with stdout and stderr captured.
-run_result run_perch(const std::vector<std::string>& args, const fs::path& dir) {
-  std::string command = quote(tool.string());
+run_result run_perch(const std::vector<std::string>& args, const fs::path& dir, const run_options& options = {}) {
+  std::string command = options.shell_prefix + quote(tool.string());
   for (const std::string& a : args) command += " " + quote(a);
   const fs::path out = dir / "stdout.txt";
   const fs::path err = dir / "stderr.txt";
+  if (!options.stdin_file.empty()) command += " < " + quote(options.stdin_file.string());
   command += " > " + quote(out.string()) + " 2> " + quote(err.string());
   const int status = std::system(command.c_str());
   run_result r;
@@ -69,6 +77,15 @@ run_result run_perch(const std::vector<std::string>& args, const fs::path& dir) 
   r.out = read_file(out);
   r.err = read_file(err);
   return r;
+}
+
+/// `text` without its lines that contain `needle`.
+std::string without_line(const std::string& text, std::string_view needle) {
+  std::istringstream lines(text);
+  std::string out, line;
+  while (std::getline(lines, line))
+    if (line.find(needle) == std::string::npos) out += line + "\n";
+  return out;
 }
 
 json_value parse(const std::string& text) {
@@ -94,11 +111,13 @@ void check_site(const json_value& site) {
 /// Checks the detect document's shape (issue 6) and returns it.
 json_value check_detect(const std::string& text, int width, int height) {
   json_value doc = parse(text);
+  CHECK(member(doc, "version").text == PERCH_VERSION);
+  CHECK(member(doc, "input").is_string());
   const std::string status = member(doc, "status").text;
-  CHECK((status == "ok" || status == "no_perch"));
+  CHECK((status == "ok" || status == "no_perch" || status == "no_tree"));
   CHECK(member(member(doc, "image"), "width").number == width);
   CHECK(member(member(doc, "image"), "height").number == height);
-  const bool no_tree = doc.find("reason") != nullptr && member(doc, "reason").text.starts_with("no_tree");
+  const bool no_tree = status == "no_tree";
   CHECK(member(doc, "mm_per_px").number >= 0);
   if (!no_tree) CHECK(member(doc, "mm_per_px").number > 0);
   CHECK(member(doc, "platform").is_string());
@@ -237,15 +256,15 @@ TEST_CASE("detect: no perch is a result with exit 0") {
   CHECK(member(member(doc, "timing_ms"), "total").number == 0);
 }
 
-TEST_CASE("detect: an empty mask is no_perch with reason no_tree") {
+TEST_CASE("detect: an empty mask is status no_tree, not no_perch") {
   const fs::path dir = scratch("detect_empty");
   perch::image<std::uint8_t> empty(64, 48, 0);
   REQUIRE(perch::png::write_png(dir / "empty.png", perch::image_view<const std::uint8_t>(empty.view())).has_value());
   const run_result r = run_perch({"detect", (dir / "empty.png").string()}, dir);
   REQUIRE_MESSAGE(r.exit_code == 0, r.err);
   const json_value doc = check_detect(r.out, 64, 48);
-  CHECK(member(doc, "status").text == "no_perch");
-  CHECK(member(doc, "reason").text.starts_with("no_tree"));
+  CHECK(member(doc, "status").text == "no_tree");
+  CHECK(member(doc, "reason").text == "the mask has no tree pixel");
 }
 
 TEST_CASE("detect: --annotate writes a picture of the input's size; --json writes the file") {
@@ -515,7 +534,7 @@ TEST_CASE("detect: corrupt PNGs exit 2 with the reader's reason; interlaced odd 
     REQUIRE_MESSAGE(adam7.exit_code == 0, adam7.err);
     REQUIRE(plain.exit_code == 0);
     check_detect(adam7.out, static_cast<int>(w), static_cast<int>(h));
-    CHECK(adam7.out == plain.out);
+    CHECK(without_line(adam7.out, "\"input\"") == without_line(plain.out, "\"input\""));
   }
 }
 
@@ -539,9 +558,28 @@ TEST_CASE("batch: a corrupt PNG is reported and skipped, the batch goes on") {
   fs::copy_file(data / "synth-5.png", in / "c.png");
   std::ofstream(in / "b.png", std::ios::binary) << "\x89PNG\r\n\x1a\n truncated";
   std::ofstream(in / "notes.txt") << "not an image";
+  fs::create_directories(in / "d.png");  // a directory named like a PNG: unreadable
   const run_result r = run_perch({"batch", in.string(), "--out", (dir / "out").string(), "--jobs", "2", "--annotate"}, dir);
-  REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+  CHECK_MESSAGE(r.exit_code == 2, r.err);  // after processing the rest
   CHECK(r.err.find("b.png") != std::string::npos);
+  CHECK_MESSAGE(r.err.find("d.png' is a directory") != std::string::npos, r.err);
+  const json_value summary = parse(read_file(dir / "out" / "summary.json"));
+  CHECK(member(summary, "version").text == PERCH_VERSION);
+  CHECK(member(summary, "exit_code").number == 2);
+  const std::vector<json_value>& rows = member(summary, "rows").items;
+  REQUIRE(rows.size() == 4);  // one per input, sorted by name
+  const char* expected[][2] = {{"a.png", "ok"}, {"b.png", "error"}, {"c.png", "no_perch"}, {"d.png", "error"}};
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    CHECK(member(rows[i], "file").text == expected[i][0]);
+    CHECK(member(rows[i], "status").text == expected[i][1]);
+  }
+  CHECK(member(rows[1], "reason").text.find("truncated") != std::string::npos);
+  CHECK(member(rows[0], "x").is_number());
+  CHECK(member(rows[2], "x").kind == json_value::type::null);
+  const std::string csv = read_file(dir / "out" / "summary.csv");
+  CHECK(csv.starts_with("file,status,reason,warnings,x,y,slope_deg,diameter_mm,penalty,time_ms\n"));
+  CHECK(std::count(csv.begin(), csv.end(), '\n') == 5);
+  CHECK(csv.find("\nd.png,error,") != std::string::npos);
   CHECK(fs::exists(dir / "out" / "a.json"));
   CHECK(fs::exists(dir / "out" / "c.json"));
   CHECK(!fs::exists(dir / "out" / "b.json"));
@@ -831,7 +869,8 @@ TEST_CASE("eval --population: the four outcomes per family, per rule broken and 
                                    again.string(), "--quiet"},
                                   dir);
   REQUIRE_MESSAGE(r2.exit_code == 0, r2.err);
-  CHECK(read_file(again) == read_file(out));
+  CHECK(without_line(read_file(again), "\"input\"") == without_line(read_file(out), "\"input\""));
+  CHECK(member(parse(read_file(out)), "input").text == "arcs:3,colonisation:3");
 }
 
 TEST_CASE("eval: bad population specs exit 2") {
@@ -849,3 +888,260 @@ TEST_CASE("eval: bad population specs exit 2") {
     CHECK(!r.err.empty());
   }
 }
+
+// ---------------------------------------------------------------------------------------------
+// The contract scripts rely on (issue 25 item 2).
+
+namespace {
+
+/// An 8-bit RGB PNG of `w` × `h` whose pixel (x, y) is `colour(x, y)` (three bytes).
+template <class F>
+bytes rgb_png(std::uint32_t w, std::uint32_t h, F&& colour) {
+  bytes raw;
+  for (std::uint32_t y = 0; y < h; ++y) {
+    raw.push_back(0);
+    for (std::uint32_t x = 0; x < w; ++x) {
+      const std::array<std::uint8_t, 3> c = colour(x, y);
+      raw.insert(raw.end(), c.begin(), c.end());
+    }
+  }
+  return assemble({{"IHDR", ihdr(w, h, 8, 2, 0)}, {"IDAT", deflate(raw)}, {"IEND", {}}});
+}
+
+/// A thick horizontal limb on a vertical trunk.
+bool tee(std::uint32_t x, std::uint32_t y) {
+  return (x >= 140 && x < 160 && y >= 60) || (y >= 60 && y < 80 && x >= 20 && x < 280);
+}
+
+std::vector<std::string> warnings_of(const json_value& doc) {
+  std::vector<std::string> out;
+  if (const json_value* w = doc.find("warnings"))
+    for (const json_value& item : w->items) out.push_back(item.text);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("a path that is not a readable regular file is exit 2 with a message, for every subcommand") {
+  const fs::path dir = scratch("not_a_file");
+  const fs::path mask = data / "shape-limb.png";
+  const std::vector<std::vector<std::string>> runs = {
+      {"detect", data.string()},
+      {"detect", "/dev/null"},
+      {"detect", (dir / "missing.png").string()},
+      {"detect", mask.string(), "--image", data.string()},
+      {"skeleton", data.string(), "--out", (dir / "s.png").string()},
+      {"graph", data.string()},
+      {"graph", "/dev/null"},
+  };
+  for (const auto& args : runs) {
+    const std::string line = args[0] + " " + args[1] + (args.size() > 2 ? " " + args[2] + " " + args[3] : "");
+    CAPTURE(line);
+    const run_result r = run_perch(args, dir);
+    CHECK(r.exit_code == 2);
+    CHECK_MESSAGE((r.err.find("is a directory") != std::string::npos ||
+                   r.err.find("not a regular file") != std::string::npos ||
+                   r.err.find("does not exist") != std::string::npos),
+                  r.err);
+    CHECK(r.out.empty());
+  }
+}
+
+TEST_CASE("--version on the tool and every subcommand; every JSON carries version and input") {
+  const fs::path dir = scratch("version");
+  const std::string expected = std::string("perch ") + PERCH_VERSION + "\n";
+  CHECK(std::string(PERCH_VERSION).find('.') != std::string::npos);
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{"--version"}, {"detect", "--version"}, {"batch", "--version"},
+                                             {"batch", "--merge", "--version"}, {"skeleton", "--version"},
+                                             {"graph", "--version"}, {"synth", "--version"}, {"eval", "--version"}}) {
+    CAPTURE(args.size() > 1 ? args[0] : std::string("perch"));
+    const run_result r = run_perch(args, dir);
+    CHECK(r.exit_code == 0);
+    CHECK(r.out == expected);
+  }
+  const std::string mask = (data / "shape-limb.png").string();
+  const run_result graph = run_perch({"graph", mask}, dir);
+  REQUIRE(graph.exit_code == 0);
+  const json_value g = parse(graph.out);
+  CHECK(member(g, "version").text == PERCH_VERSION);
+  CHECK(member(g, "input").text == mask);
+  const run_result skeleton = run_perch({"skeleton", mask, "--out", (dir / "s.png").string()}, dir);
+  REQUIRE(skeleton.exit_code == 0);
+  CHECK(member(parse(skeleton.out), "input").text == mask);
+  const run_result detect = run_perch({"detect", mask}, dir);
+  CHECK(member(parse(detect.out), "input").text == mask);
+}
+
+TEST_CASE("detect, graph and skeleton read the mask from standard input with -") {
+  const fs::path dir = scratch("stdin");
+  const fs::path mask = data / "shape-limb.png";
+  const run_result from_file = run_perch({"detect", mask.string(), "--no-timing"}, dir);
+  const run_result from_stdin = run_perch({"detect", "-", "--no-timing"}, dir, {.stdin_file = mask, .shell_prefix = {}});
+  REQUIRE_MESSAGE(from_stdin.exit_code == 0, from_stdin.err);
+  CHECK(member(check_detect(from_stdin.out, 800, 600), "input").text == "-");
+  CHECK(member(parse(from_stdin.out), "status").text == "ok");
+  CHECK(without_line(from_stdin.out, "\"input\"") == without_line(from_file.out, "\"input\""));
+  const run_result graph = run_perch({"graph", "-"}, dir, {.stdin_file = mask, .shell_prefix = {}});
+  CHECK(graph.exit_code == 0);
+  const run_result skeleton = run_perch({"skeleton", "-", "--out", (dir / "s.png").string()}, dir, {.stdin_file = mask, .shell_prefix = {}});
+  CHECK(skeleton.exit_code == 0);
+  // Not a PNG on standard input: exit 2 naming it.
+  std::ofstream(dir / "text.txt") << "not a png";
+  const run_result bad = run_perch({"detect", "-"}, dir, {.stdin_file = dir / "text.txt", .shell_prefix = {}});
+  CHECK(bad.exit_code == 2);
+  CHECK_MESSAGE(bad.err.find("standard input") != std::string::npos, bad.err);
+}
+
+TEST_CASE("output paths are checked before the analysis: exit 2, nothing written") {
+  const fs::path dir = scratch("output_paths");
+  const std::string mask = (data / "shape-limb.png").string();
+  const fs::path picture = dir / "picture.png";
+  const fs::path json = dir / "out.json";
+  const std::vector<std::vector<std::string>> runs = {
+      {"detect", mask, "--annotate", picture.string(), "--json", (dir / "missing" / "x.json").string()},
+      {"detect", mask, "--json", json.string(), "--annotate", dir.string()},
+      {"graph", mask, "--json", (dir / "missing" / "g.json").string()},
+      {"skeleton", mask, "--out", picture.string(), "--radius-out", (dir / "missing" / "r.png").string()},
+  };
+  for (const auto& args : runs) {
+    CAPTURE(args[0]);
+    const run_result r = run_perch(args, dir);
+    CHECK(r.exit_code == 2);
+    CHECK_MESSAGE(r.err.find("--") != std::string::npos, r.err);
+    CHECK(r.out.empty());
+    CHECK_FALSE(fs::exists(picture));
+    CHECK_FALSE(fs::exists(json));
+  }
+}
+
+TEST_CASE("input that is probably not a tree mask is named; --threshold and --invert say what was meant") {
+  const fs::path dir = scratch("not_a_mask");
+  write_bytes(dir / "mask.png", mask_png(300, 200, tee));
+  const run_result clean = run_perch({"detect", (dir / "mask.png").string(), "--mm-per-px", "2", "--no-timing"}, dir);
+  REQUIRE(clean.exit_code == 0);
+  const json_value reference = check_detect(clean.out, 300, 200);
+  CHECK(warnings_of(reference).empty());
+  CHECK(clean.err.empty());
+
+  struct variant {
+    const char* name;
+    bytes png;
+    std::vector<std::string> options;  // what the user meant
+    const char* warning;
+  };
+  const variant variants[] = {
+      {"colour", rgb_png(300, 200, [](std::uint32_t x, std::uint32_t y) {
+         return tee(x, y) ? std::array<std::uint8_t, 3>{120, 90, 60} : std::array<std::uint8_t, 3>{0, 40, 0};
+       }), {"--threshold", "30"}, "colour image"},
+      {"grey", gray_png(300, 200, [] {
+         bytes p(300 * 200);
+         for (std::uint32_t y = 0; y < 200; ++y)
+           for (std::uint32_t x = 0; x < 300; ++x) p[y * 300 + x] = tee(x, y) ? 200 : (x % 7 == 0 ? 40 : 0);
+         return p;
+       }()), {"--threshold", "100"}, "grey levels"},
+      {"inverted", mask_png(300, 200, [](std::uint32_t x, std::uint32_t y) { return !tee(x, y); }), {"--invert"},
+       "looks inverted"},
+  };
+  for (const variant& v : variants) {
+    CAPTURE(v.name);
+    const fs::path file = dir / (std::string(v.name) + ".png");
+    write_bytes(file, v.png);
+    const run_result warned = run_perch({"detect", file.string(), "--mm-per-px", "2", "--no-timing"}, dir);
+    REQUIRE(warned.exit_code == 0);
+    CHECK_MESSAGE(warned.err.find(v.warning) != std::string::npos, warned.err);
+    CHECK(warned.err.find("warning") != std::string::npos);
+    const std::vector<std::string> warnings = warnings_of(parse(warned.out));
+    CHECK(std::any_of(warnings.begin(), warnings.end(),
+                      [&](const std::string& w) { return w.find(v.warning) != std::string::npos; }));
+    std::vector<std::string> args = {"detect", file.string(), "--mm-per-px", "2", "--no-timing"};
+    args.insert(args.end(), v.options.begin(), v.options.end());
+    const run_result meant = run_perch(args, dir);
+    REQUIRE(meant.exit_code == 0);
+    CHECK_MESSAGE(meant.err.empty(), meant.err);
+    CHECK(warnings_of(parse(meant.out)).empty());
+    CHECK(without_line(meant.out, "\"input\"") == without_line(clean.out, "\"input\""));
+  }
+  const run_result bad = run_perch({"detect", (dir / "mask.png").string(), "--threshold", "300"}, dir);
+  CHECK(bad.exit_code == 2);
+}
+
+TEST_CASE("no_perch says why no window was measured; rank counts from 1, the perch is #1") {
+  const fs::path dir = scratch("reasons");
+  // A small blob: a tree, but no limb one drone width (400 mm = 400 px here) long.
+  write_bytes(dir / "blob.png", mask_png(120, 120, [](std::uint32_t x, std::uint32_t y) {
+                return x >= 50 && x < 70 && y >= 40;
+              }));
+  const run_result blob = run_perch({"detect", (dir / "blob.png").string(), "--mm-per-px", "1"}, dir);
+  REQUIRE(blob.exit_code == 0);
+  const json_value doc = check_detect(blob.out, 120, 120);
+  CHECK(member(doc, "status").text == "no_perch");
+  CHECK(member(member(doc, "windows"), "measured").number == 0);
+  const std::string reason = member(doc, "reason").text;
+  CHECK_MESSAGE(reason.starts_with("no window measured"), reason);
+  CHECK(reason.find("passed every constraint") == std::string::npos);
+
+  const run_result found = run_perch({"detect", (data / "synth-1.png").string(), "--top", "3"}, dir);
+  const json_value ranked = check_detect(found.out, 960, 720);
+  CHECK(member(member(ranked, "perch"), "rank").number == 1);
+  const std::vector<json_value>& candidates = member(ranked, "candidates").items;
+  REQUIRE(candidates.size() >= 2);
+  for (std::size_t i = 0; i < candidates.size(); ++i) CHECK(member(candidates[i], "rank").number == double(i + 1));
+}
+
+TEST_CASE("batch: exit 2 when the folder holds no PNG; bad --shard is exit 2") {
+  const fs::path dir = scratch("batch_empty");
+  fs::create_directories(dir / "in");
+  std::ofstream(dir / "in" / "notes.txt") << "no masks here";
+  const run_result r = run_perch({"batch", (dir / "in").string(), "--out", (dir / "out").string()}, dir);
+  CHECK(r.exit_code == 2);
+  CHECK_MESSAGE(r.err.find("no PNG") != std::string::npos, r.err);
+  CHECK(member(parse(read_file(dir / "out" / "summary.json")), "rows").items.empty());
+  for (const char* shard : {"0/2", "3/2", "1/0", "2", "a/b"}) {
+    CAPTURE(shard);
+    CHECK(run_perch({"batch", data.string(), "--out", (dir / "o").string(), "--shard", shard}, dir).exit_code == 2);
+  }
+}
+
+TEST_CASE("batch --shard K/N splits the sorted folder; --merge joins the shards into the whole") {
+  const fs::path dir = scratch("batch_shards");
+  const auto batch = [&](std::vector<std::string> extra, const std::string& out) {
+    std::vector<std::string> args = {"batch", data.string(), "--out", (dir / out).string(), "--no-timing", "--quiet"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run_perch(args, dir);
+  };
+  REQUIRE(batch({}, "whole").exit_code == 0);
+  std::size_t rows = 0;
+  for (const char* k : {"1", "2", "3"}) {
+    REQUIRE(batch({"--shard", std::string(k) + "/3"}, std::string("shard-") + k).exit_code == 0);
+    const json_value s = parse(read_file(dir / (std::string("shard-") + k) / "summary.json"));
+    CHECK(member(member(s, "shard"), "count").number == 3);
+    CHECK(member(s, "files_in_input").number == 9);
+    CHECK(member(s, "rows").items.size() == 3);  // 9 sample masks, round robin
+    rows += member(s, "rows").items.size();
+  }
+  CHECK(rows == 9);
+  const run_result merged = run_perch({"batch", "--merge", (dir / "shard-3").string(), (dir / "shard-1").string(),
+                                       (dir / "shard-2").string(), "--out", (dir / "merged").string()},
+                                      dir);
+  REQUIRE_MESSAGE(merged.exit_code == 0, merged.err);
+  CHECK(read_file(dir / "merged" / "summary.csv") == read_file(dir / "whole" / "summary.csv"));
+  CHECK(member(parse(read_file(dir / "merged" / "summary.json")), "merged_shards").number == 3);
+  const run_result missing = run_perch({"batch", "--merge", (dir / "shard-1").string(), (dir / "shard-3").string(),
+                                        "--out", (dir / "partial").string()},
+                                       dir);
+  CHECK(missing.exit_code == 2);
+  CHECK_MESSAGE(missing.err.find("shard 2/3 is missing") != std::string::npos, missing.err);
+  CHECK(run_perch({"batch", "--merge", (dir / "whole").string(), "--out", (dir / "x").string()}, dir).exit_code == 2);
+}
+
+#if !defined(__SANITIZE_ADDRESS__)
+TEST_CASE("out of memory is exit 1 with a message, not an abort") {
+  const fs::path dir = scratch("out_of_memory");
+  // 8192 x 8192 pixels decode into several 64 MiB buffers: more than 160 MiB of address space.
+  write_bytes(dir / "big.png", gray_png(8192, 8192, bytes(std::size_t{8192} * 8192, 0)));
+  const run_result r = run_perch({"detect", (dir / "big.png").string()}, dir, {.stdin_file = {}, .shell_prefix = "ulimit -v 160000; "});
+  CHECK(r.exit_code == 1);
+  CHECK_MESSAGE(r.err.find("out of memory") != std::string::npos, r.err);
+}
+#endif

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// A tiny PNG reader and writer for perch's host code (the tool, the examples, the tests).
 /// It lives in `examples/`, never in `include/perch/`: the library itself does no I/O.
@@ -167,8 +168,9 @@ struct read_options {
 [[nodiscard]] png_result<decoded_png> read_png(std::span<const std::uint8_t> bytes,
                                                const read_options& options = {});
 
-/// Reads and decodes the PNG file at `path` (errors of `read_png`, plus a file that cannot
-/// be opened or read, named in the message).
+/// Reads and decodes the PNG file at `path` (errors of `read_png`, plus a path that does not
+/// exist, is a directory or another non-regular file, or cannot be opened or read, named in
+/// the message; nothing is read from such a path).
 [[nodiscard]] png_result<decoded_png> read_png_file(const std::filesystem::path& path,
                                                     const read_options& options = {});
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `arg_parser`: a small command-line parser for one subcommand of the perch tool. Host code,
 /// not part of the library. No exceptions: every problem comes back as a message string.
@@ -9,7 +10,9 @@
 ///   - positionals, in declaration order; `--` ends the options (all later arguments are
 ///     positional); a lone `-` is positional;
 ///   - `--help` / `-h` anywhere before `--` asks for help: `parse` then succeeds whatever else
-///     is on the line, and `help_requested()` is true.
+///     is on the line, and `help_requested()` is true; likewise `--version` when `set_version`
+///     gave one (`version_requested()`);
+///   - the last positional may be `arg_presence::one_or_more`: it takes every remaining one.
 /// Errors name what is wrong: `unknown option '--tpo' (did you mean '--top'?)`,
 /// `option '--top' needs a value (K)`, `option '--top' given more than once`,
 /// `missing argument MASK.png`, `unexpected argument 'x.png'`, and from the typed getters
@@ -56,8 +59,8 @@ struct arg_value {
   [[nodiscard]] explicit operator bool() const noexcept { return error.empty(); }
 };
 
-/// Whether a positional argument must be given.
-enum class arg_presence : std::uint8_t { required, optional };
+/// Whether a positional argument must be given (`one_or_more`: the last one, repeated).
+enum class arg_presence : std::uint8_t { required, optional, one_or_more };
 
 /// Edit distance between `a` and `b`: insertions, deletions, substitutions and swaps of two
 /// adjacent characters each cost 1 (optimal string alignment), so "tpo" is 1 from "top".
@@ -156,15 +159,24 @@ class arg_parser {
   }
 
   /// Declares the next positional argument. Precondition: no optional positional before a
-  /// required one.
+  /// required one, nothing after a `one_or_more` one.
   arg_parser& add_positional(std::string name, std::string help,
                              arg_presence presence = arg_presence::required) {
     PERCH_ASSERT(positional_specs_.empty() || presence == arg_presence::optional ||
                      positional_specs_.back().presence == arg_presence::required,
                  "arg_parser: a required positional after an optional one");
+    PERCH_ASSERT(positional_specs_.empty() || positional_specs_.back().presence != arg_presence::one_or_more,
+                 "arg_parser: a positional after a repeated one");
     positional_specs_.push_back(positional_spec{std::move(name), std::move(help), presence});
     return *this;
   }
+
+  /// Accepts `--version` (listed in the help): `version()` is what the caller prints.
+  arg_parser& set_version(std::string text) {
+    version_ = std::move(text);
+    return *this;
+  }
+  [[nodiscard]] const std::string& version() const noexcept { return version_; }
 
   /// Text printed at the end of the help (examples, notes).
   arg_parser& set_epilog(std::string text) {
@@ -179,11 +191,13 @@ class arg_parser {
     flags_.assign(specs_.size(), false);
     positionals_.clear();
     help_ = false;
+    version_asked_ = false;
     for (const std::string_view a : args) {
       if (a == "--") break;
       if (a == "--help" || a == "-h") help_ = true;
+      if (a == "--version" && !version_.empty()) version_asked_ = true;
     }
-    if (help_) return {};
+    if (help_ || version_asked_) return {};
     bool options_done = false;
     for (std::size_t i = 0; i < args.size(); ++i) {
       const std::string_view a = args[i];
@@ -232,10 +246,12 @@ class arg_parser {
     }
     std::size_t required = 0;
     for (const positional_spec& p : positional_specs_)
-      if (p.presence == arg_presence::required) ++required;
+      if (p.presence != arg_presence::optional) ++required;
     if (positionals_.size() < required)
       return "missing argument " + positional_specs_[positionals_.size()].name;
-    if (positionals_.size() > positional_specs_.size())
+    const bool repeated_last =
+        !positional_specs_.empty() && positional_specs_.back().presence == arg_presence::one_or_more;
+    if (positionals_.size() > positional_specs_.size() && !repeated_last)
       return "unexpected argument '" + positionals_[positional_specs_.size()] + "'";
     return {};
   }
@@ -250,6 +266,8 @@ class arg_parser {
 
   /// True if `--help` or `-h` was on the command line.
   [[nodiscard]] bool help_requested() const noexcept { return help_; }
+  /// True if `--version` was on the command line (and `set_version` gave one).
+  [[nodiscard]] bool version_requested() const noexcept { return version_asked_; }
 
   /// True if option or flag `name` (declared) was given.
   [[nodiscard]] bool has(std::string_view name) const {
@@ -369,7 +387,9 @@ class arg_parser {
     std::string out = "usage: " + usage_name_;
     if (!specs_.empty()) out += " [options]";
     for (const positional_spec& p : positional_specs_)
-      out += p.presence == arg_presence::required ? " " + p.name : " [" + p.name + "]";
+      out += p.presence == arg_presence::required      ? " " + p.name
+             : p.presence == arg_presence::one_or_more ? " " + p.name + "..."
+                                                       : " [" + p.name + "]";
     out += "\n";
     if (!summary_.empty()) out += "\n" + summary_ + "\n";
     std::vector<std::pair<std::string, std::string>> rows;
@@ -386,6 +406,7 @@ class arg_parser {
       rows.emplace_back(std::move(left), std::move(right));
     }
     rows.emplace_back("-h, --help", "show this help and exit");
+    if (!version_.empty()) rows.emplace_back("--version", "print the version and exit");
     std::size_t column = 0;
     for (const auto& row : rows) column = std::max(column, row.first.size());
     column = std::min<std::size_t>(column, 26) + 4;
@@ -490,6 +511,8 @@ class arg_parser {
   std::vector<bool> flags_;
   std::vector<std::string> positionals_;
   bool help_ = false;
+  std::string version_;
+  bool version_asked_ = false;
 };
 
 }  // namespace perch::support

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Masks written as ASCII art, so a test shows its input as a picture and a failure prints one.
 /// '#', '1', 'X', '@' and '*' are foreground; every other character is background. Rows are

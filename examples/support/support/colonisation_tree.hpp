@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// A second family of synthetic trees, grown by space colonisation, with the same ground truth
 /// (`limb_truth`, `synthetic_tree`) as `make_tree` in synthetic_tree.hpp.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Drawing primitives for annotated pictures (the perch tool's `--annotate`). Host code, not
 /// part of the library.

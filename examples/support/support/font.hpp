@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// A tiny bitmap font (perch's own 5 × 7 glyphs for printable ASCII 32–126), text drawing with
 /// an optional background box, and a legend box for annotated pictures. Host code, not part of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `json_writer`: a small streaming JSON writer (RFC 8259) into a `std::string`, for the perch
 /// tool's outputs. Host code, not part of the library.

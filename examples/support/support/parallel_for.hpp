@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `parallel_for` / `parallel_map`: run `count` independent jobs over a few threads (the perch
 /// tool's `--jobs`). Host code, not part of the library.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The synthetic populations perch is measured on: two differently built tree families, each
 /// varied widely (sizes, scales, crown forms, bending, kinks, crossings, twigs, pinholes,

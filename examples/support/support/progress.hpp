@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// A progress bar on stderr for `perch batch`: done/total, percentage, rate and ETA. Host
 /// code, not part of the library.

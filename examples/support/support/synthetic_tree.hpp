@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Synthetic tree masks with ground truth, for tests, benchmarks and `perch synth`.
 ///

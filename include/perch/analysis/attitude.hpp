@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The camera's attitude in the image: where the true horizontal is, so slopes are measured
 /// against gravity and not against the image rows (the paper's future work on attitude sensors).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Clearance around a window, two ways:
 ///  - from every other limb's surface (`limb_clearance`): how far the window's centreline is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// What perch measures on a stretch of branch centreline (paper table 2): slope to the true
 /// horizontal, curvature, diameters, monotonicity; and the per-branch profiles they read.

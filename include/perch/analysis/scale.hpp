@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Scale policies: how many millimetres one pixel spans. Fixed, from the trunk prior (the
 /// reference prototype's rule), or from depth and pinhole intrinsics per window (the paper's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Sliding windows along a branch (paper §"Analyse Branches"): one drone width of arc length,
 /// moved by a stride, never across a junction; and the measures of each window.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The one assertion macro for programmer errors (broken preconditions), and the hook a user
 /// redirects it with. Data errors never assert: they come back as a status (see result.hpp).

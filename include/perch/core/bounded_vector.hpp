@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `bounded_vector<T>`: a vector over caller-provided storage with a fixed capacity. Growth past
 /// the capacity is a status (`errc::capacity_exceeded`), never a reallocation or a silent drop.

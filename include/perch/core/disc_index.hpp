@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `disc_index`: a set of discs (centre, radius, owner) bucketed on a uniform grid, answering
 /// "how far is this point from the surface of the nearest disc not owned by these owners?".

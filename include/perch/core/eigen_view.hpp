@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Views over Eigen matrices in place: rows of the image are rows of a row-major matrix (or
 /// columns of a column-major one, giving the transposed image). Eigen is at the boundary only.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Points at the boundary of the library, as Eigen types, and the integer pixel inside it.
 #pragma once

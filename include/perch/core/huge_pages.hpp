@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `huge_page_resource`: workspace blocks in transparent huge pages, for large frames.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `image<T>`: an owning image for host code (tests, tools). Allocates, so the core never
 /// includes it and firmware never needs it; every algorithm takes views.

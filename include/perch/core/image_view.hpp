@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `image_view<T>`: a cheap non-owning 2-D view (pointer, width, height, row stride in elements)
 /// and the concepts the algorithms check in their signatures. Coordinates are (x, y) = (column,

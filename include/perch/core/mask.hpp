@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Preparing a tree mask for analysis: the tree's bounding box, and a binarised, optionally
 /// area-downscaled copy of just that box with a one-pixel background border, so every later

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Cache prefetch hints, for the stages whose accesses scatter over the image or jump from row
 /// to row.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Error codes, `error`, and `result<T>`: how every perch function reports a data outcome it
 /// cannot turn into a value. Members are named like `std::expected` (C++23) so code moves over

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `row_runs`: the runs of foreground of a binary image, row by row, found once and shared by the
 /// kernels that would otherwise each scan the whole image for them (the distance transform's two

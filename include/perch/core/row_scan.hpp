@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Rows of an image view, and scanning, counting and binarising mask rows eight one-byte pixels
 /// at a time (the usual mask); used by the mask preparation, the distance transform, the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Union-find over small integers in one int32 array, the smaller root always the root of a
 /// merged set: the label equivalences of the two-pass labeller (label stage) and the

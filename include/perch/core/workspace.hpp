@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `workspace`: the scratch memory every perch algorithm draws from, reused across calls so a
 /// drone running at frame rate allocates nothing after its first frame.

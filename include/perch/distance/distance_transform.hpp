@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The exact Euclidean distance transform of a binary mask: for every foreground pixel, the
 /// distance to the nearest background pixel centre (Meijster, Roerdink & Hesselink 2000), as

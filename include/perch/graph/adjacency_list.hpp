@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `adjacency_list<NodeData, EdgeData>`: a generic undirected multigraph over workspace memory,
 /// with fixed capacities, stable ids, parallel edges and self-loops, and the one structural edit

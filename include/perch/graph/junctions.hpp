@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Stage "junctions": where a limb is clear of the junctions at its ends. A skeleton runs on
 /// into the body of the limb it meets, and at a narrow fork splits only where the limbs'

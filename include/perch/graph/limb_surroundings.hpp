@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// What surrounds each limb, as the feasibility rules need it (issue 24):
 ///  - `limb_obstacles`: the discs of every limb's skeleton (the union of a medial axis's discs is

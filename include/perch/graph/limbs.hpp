@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Limbs: skeleton-graph edges chained through the junctions where only a much thinner limb
 /// leaves. The paper's "branch" is a limb of the tree, not a graph edge: a twig leaving a limb

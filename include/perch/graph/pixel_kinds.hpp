@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Pixel kinds of a one-pixel-thin skeleton (paper table 1, refined): end, body, junction,
 /// isolated, from the 8-neighbourhood of each pixel, and the path adjacency that branch tracing

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Branch weighting (paper eq. 1) and iterative pruning of a skeleton graph (paper §"Prune
 /// Graph"), with the tip-spur rule that removes the medial axis's forks at round branch tips

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The skeleton graph (paper §"Section into Branches" and §"Create Graph"): junction clusters
 /// and branch ends as nodes, branches as edges carrying their ordered centreline with the

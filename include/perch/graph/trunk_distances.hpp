@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Graph distances from each component's trunk node along the branches (Dijkstra), so each
 /// branch can be oriented from the end nearer the trunk (where it leaves its parent) and arc

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `label_components`: connected-component labelling of a binary mask, numbered like
 /// `scipy.ndimage.label`, optionally with each component's area and bounding box.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `connectivity`: which neighbours join two pixels into one component.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `fill_small_holes`: fills the small holes of a binary mask (pinholes), found among the
 /// background gaps between its row runs.

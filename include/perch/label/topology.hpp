@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// `count_topology`: the number of components and holes of a binary mask, the invariants a
 /// topology-preserving skeleton must keep.

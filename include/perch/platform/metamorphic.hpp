@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The metamorphic quadrotor of Zheng et al. 2023 ("Metamorphic aerial robot capable of mid-air
 /// shape morphing for rapid perching"): lands on a branch from above and clamps it with its arms.

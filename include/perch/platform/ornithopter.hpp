@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The perching ornithopter of Zufferey et al. 2022 ("How ornithopters can perch autonomously
 /// on a branch"): a flapping-wing drone that perches dynamically, at speed.

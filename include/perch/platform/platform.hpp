@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The `Platform` concept: a drone and its perching mechanism as a type — its geometry, a pack
 /// of constraints and one scorer, composed at compile time.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The tendon-driven claw quadrotor of Li et al. 2025 ("Tendon-driven grasping for tree-perching
 /// drones"), the paper's reference platform and perch's default.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Tensile perching (Lan et al. 2024, "Aerial tensile perching and disentangling mechanism for
 /// long-term environmental monitoring"): a tethered mass wraps around a branch and the drone

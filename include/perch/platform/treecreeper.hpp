@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The treecreeper drone of Li et al. 2025 ("Treecreeper drone: bird-inspired perching on
 /// vertical tree trunks"): a claw plus a microspine tail that perch on near-vertical trunks.

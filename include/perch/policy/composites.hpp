@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Composites: `all_of<...>` (a constraint made of constraints) and `weighted_sum<...>` (a
 /// scorer made of scorers). Both model the concepts they combine, so they nest.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The `Constraint` and `Scorer` concepts: what a user's policy type must provide. Checked in
 /// `find_perch`'s signature (through `Platform`), so a wrong type fails at the user's call with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The constraints of the paper (table 2 and the viability check) and the platforms' additions.
 /// Each returns by how much a window misses (in `unit`), 0 when it passes; `name` appears in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Viability and ranking (paper §"Rank viable branches"): every window is checked against a
 /// platform's constraints, the viable ones are scored, and the best distinct sites are ranked.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Scorers: the paper's multi-criteria penalty (eq. 3) and small single-criterion scorers to
 /// build others with `weighted_sum`.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The default skeleton: a one-pixel-thin, topology-preserving medial axis on the ridges of the
 /// distance map, by distance-ordered homotopic thinning.

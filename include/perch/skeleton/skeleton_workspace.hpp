@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Workspace size for one or several skeletonisers, perch's own by default.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The `Skeletoniser` concept every skeleton method models, so the pipeline takes any of them,
 /// and the option every method shares: how thin the output must be.

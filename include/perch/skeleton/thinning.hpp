@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Classic two-sub-iteration parallel thinning: one template, `two_subiteration_thinning`,
 /// parameterised by the deletion rule, and its two instances Zhang–Suen (1984) and Guo–Hall

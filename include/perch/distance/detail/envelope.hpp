@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Private helpers of the distance stage: the lower envelope of parabolas of one foreground run
 /// (the second phase of Meijster, Roerdink & Hesselink 2000), and a direct search within a

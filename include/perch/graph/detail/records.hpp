@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Private: what a skeleton graph stores per node and per edge, and the joined polylines
 /// ("ropes") that degree-2 merges build during pruning before they are written out flat.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Private: visiting the non-zero pixels of a binary view in raster order, skipping runs of
 /// zero bytes 32 at a time when the pixels are bytes (skeletons are sparse).

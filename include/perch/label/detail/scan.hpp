@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// The two raster passes of the labeller: a first pass that gives every foreground pixel a
 /// provisional label chosen by a decision tree over its already-scanned neighbours, and a second

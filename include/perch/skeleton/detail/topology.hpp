@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 /// \file
 /// Private helpers of the skeleton stage: a padded working copy of the mask (one byte per pixel,
 /// background frame, bit 0 = foreground, bits 1–2 = queue flags), 3×3 neighbourhood codes,

@@ -1,0 +1,26 @@
+# SPDX-License-Identifier: BSL-1.0
+# `cmake -DSOURCE_DIR=... -P spdx_headers.cmake`: fails naming every source, header, CMake file
+# or script under include/, examples/, tests/, benchmarks/, scripts/ and cmake/ whose first
+# lines do not carry the licence's SPDX identifier (PNG, JSON and fuzz corpus data are exempt).
+set(tag "SPDX-License-Identifier: BSL-1.0")
+set(missing "")
+set(checked 0)
+foreach(dir include examples tests benchmarks scripts cmake)
+  file(GLOB_RECURSE files "${SOURCE_DIR}/${dir}/*")
+  foreach(file IN LISTS files)
+    if(file MATCHES "\\.(png|json)$" OR file MATCHES "/corpus/")
+      continue()
+    endif()
+    file(STRINGS "${file}" head LIMIT_COUNT 3)
+    math(EXPR checked "${checked} + 1")
+    string(FIND "${head}" "${tag}" at)
+    if(at EQUAL -1)
+      list(APPEND missing "${file}")
+    endif()
+  endforeach()
+endforeach()
+if(missing)
+  list(JOIN missing "\n  " shown)
+  message(FATAL_ERROR "no '${tag}' in the first lines of:\n  ${shown}")
+endif()
+message(STATUS "${checked} files carry '${tag}'")
