@@ -283,5 +283,14 @@ void* operator new(std::size_t size) {
 }
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+// The workspace's blocks: aligned, non-throwing.
+void* operator new(std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  const auto align = static_cast<std::size_t>(a);
+  if (size > static_cast<std::size_t>(-1) - align) return nullptr;
+  return std::aligned_alloc(align, (size + align - 1) / align * align);
+}
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
 
 BENCHMARK_MAIN();

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSL-1.0
 # Cross-compiling for aarch64-linux-gnu with Debian's cross compiler (g++-aarch64-linux-gnu). Executables are linked
 # statically so qemu-user runs them without a target sysroot; CMAKE_CROSSCOMPILING_EMULATOR lets
 # CTest run them under qemu.

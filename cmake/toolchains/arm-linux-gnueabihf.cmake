@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSL-1.0
 # Cross-compiling for arm-linux-gnueabihf with Debian's cross compiler (g++-arm-linux-gnueabihf). Executables are linked
 # statically so qemu-user runs them without a target sysroot; CMAKE_CROSSCOMPILING_EMULATOR lets
 # CTest run them under qemu.

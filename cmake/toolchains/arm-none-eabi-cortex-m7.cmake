@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSL-1.0
 # Cortex-M7 (hard-float FPv5, single and double precision) bare metal with Debian's
 # gcc-arm-none-eabi and libstdc++-arm-none-eabi-newlib. Programs link newlib-nano; the firmware
 # example adds semihosting (rdimon) so qemu can run it and print its result.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // How the firmware example talks to the outside world: text out and an exit code, through ARM
 // semihosting (a debugger or qemu carries them to the host).
 #pragma once

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSL-1.0
 cmake_policy(SET CMP0007 NEW)
 # Checks a firmware image: no allocator, exception or RTTI symbol in it, and text + data
 # (flash) and data + bss (RAM) within the budgets. Prints the image's sizes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // A Cortex-M7 program as a firmware team would write it: a static mask, a static workspace
 // buffer, one find_perch call, the best site written to a static struct. It names no allocator,
 // so its image links no heap, no exception and no RTTI support (CI checks the symbols).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // ARM semihosting: `bkpt 0xab` on M-profile cores (a Cortex-M7 board under qemu-system-arm or a
 // debug probe), `svc 0xab` in Thumb state on A-profile cores (qemu-arm user mode).
 #include <cstdint>

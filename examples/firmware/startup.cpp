@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // Reset and vector table of a bare Cortex-M7 (the MPS2 AN500 board qemu-system-arm emulates):
 // FPU on, .data copied, .bss zeroed, static constructors run, main, exit through the board.
 #include <cstdint>

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSL-1.0
 # Runs site_hash and keeps its lines. Host: -DPROGRAM -DMASK_DIR -DOUTPUT -DPNGS="a.png;b.png"
 # (writes the PGM copies into MASK_DIR). Cross target: also -DEMULATOR and -DREFERENCE, the
 # host's lines, which must be equal.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSL-1.0
 // site_hash: one line per mask and downscale, `name factor outcome sites hash`, where the hash (FNV-1a, 64
 // bits) covers what find_perch decided: the outcome, the window counts, and every site's pixel
 // and rank. Equal lines on two targets mean the same sites. Masks: synthetic trees (built here,

@@ -57,16 +57,34 @@ struct pmr_blocks {
   }
 };
 
+/// The default owning workspace's blocks: the heap through the non-throwing aligned `new`, so
+/// that running out of memory is `errc::out_of_memory`, not an exception escaping a `noexcept`
+/// function (`std::pmr::new_delete_resource()` throws `std::bad_alloc`, which would end in
+/// `std::terminate`), and hinted for huge pages.
+struct heap_blocks {
+  static void* take(void*, std::size_t bytes, std::size_t alignment) noexcept {
+    void* memory = ::operator new(bytes, std::align_val_t{alignment}, std::nothrow);
+    if (memory != nullptr) pmr_blocks::hint_huge_pages(memory, bytes);
+    return memory;
+  }
+  static void give_back(void*, void* block, std::size_t, std::size_t alignment) noexcept {
+    ::operator delete(block, std::align_val_t{alignment}, std::nothrow);
+  }
+};
+
 }  // namespace detail
 
 /// A bump allocator over one or more memory blocks.
 ///
-/// - Owning (`workspace{}` or `workspace{resource}`): blocks come from a
-///   `std::pmr::memory_resource` (default `new`/`delete`). `reset()` rewinds without freeing, so a
+/// - Owning (`workspace{}` or `workspace{resource}`): blocks come from the heap (the
+///   non-throwing `new`: out of memory is `errc::out_of_memory`) or from a
+///   `std::pmr::memory_resource` (which must not throw: `find_perch` is `noexcept`, so an
+///   exception from it ends in `std::terminate`; return memory or fail in your own way).
+///   `reset()` rewinds without freeing, so a
 ///   call that repeats the previous call's requests is served from the same blocks: no
 ///   allocation after warm-up. `reserve(bytes)` pre-sizes one block (use the stage's size query).
-///   On Linux, blocks of the default resource are marked for transparent huge pages
-///   (`madvise(MADV_HUGEPAGE)` on their whole 2 MiB pages; a hint, used when
+///   On Linux, the heap's blocks (and `new_delete_resource()`'s) are marked for transparent
+///   huge pages (`madvise(MADV_HUGEPAGE)` on their whole 2 MiB pages; a hint, used when
 ///   /sys/kernel/mm/transparent_hugepage/enabled is `madvise` or `always`): the distance and
 ///   skeleton stages touch a large frame's pixels all over it, and with 4 KiB pages their time
 ///   goes to TLB misses as much as to cache misses. `PERCH_NO_HUGE_PAGE_HINT` turns it off.
@@ -100,9 +118,10 @@ class workspace {
     return round_up(n * sizeof(T));
   }
 
-  /// An owning workspace on the heap (`std::pmr::new_delete_resource()`), its blocks hinted
-  /// for huge pages on Linux.
-  workspace() noexcept : workspace(std::pmr::new_delete_resource()) {}
+  /// An owning workspace on the heap (non-throwing aligned `new`), its blocks hinted for huge
+  /// pages on Linux.
+  workspace() noexcept
+      : take_(&detail::heap_blocks::take), give_back_(&detail::heap_blocks::give_back) {}
 
   /// An owning workspace drawing blocks from `upstream` (never null).
   explicit workspace(std::pmr::memory_resource* upstream) noexcept
