@@ -41,6 +41,23 @@ struct frame {
   [[nodiscard]] float scale() const { return 1.0f / r.mask.factor; }
 };
 
+/// The branch's heading: an arrow along the window from its trunk-side end to its tip-side end
+/// (input pixels), its head at the tip side.
+void draw_heading_arrow(image_view<png::rgb8> canvas, const window_measures& m, rgb colour, float stroke) {
+  const draw_point base{static_cast<float>(m.base_end.x), static_cast<float>(m.base_end.y)};
+  const draw_point tip{static_cast<float>(m.tip_end.x), static_cast<float>(m.tip_end.y)};
+  const float dx = tip.x - base.x, dy = tip.y - base.y;
+  const float length = std::hypot(dx, dy);
+  if (!(length > 0)) return;
+  support::draw_line(canvas, base, tip, colour, stroke);
+  const float head = std::min(0.35f * length, 6.0f * stroke + 4.0f);
+  const float ux = dx / length, uy = dy / length;
+  for (const float side : {1.0f, -1.0f}) {  // two barbs at ±30° back from the tip
+    const float bx = -ux * 0.866f - side * uy * 0.5f, by = -uy * 0.866f + side * ux * 0.5f;
+    support::draw_line(canvas, tip, {tip.x + head * bx, tip.y + head * by}, colour, stroke);
+  }
+}
+
 std::vector<draw_point> window_points(const frame& f, const window_measures& m) {
   std::vector<draw_point> out;
   if (m.limb < 0 || static_cast<std::size_t>(m.limb) >= f.r.limbs.size()) return out;
@@ -50,9 +67,9 @@ std::vector<draw_point> window_points(const frame& f, const window_measures& m) 
   return out;
 }
 
-std::string format(const char* pattern, double a, double b = 0.0) {
+std::string format(const char* pattern, double a, double b = 0.0, double c = 0.0) {
   char buffer[128];
-  std::snprintf(buffer, sizeof buffer, pattern, a, b);
+  std::snprintf(buffer, sizeof buffer, pattern, a, b, c);
   return buffer;
 }
 
@@ -261,6 +278,7 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
       {.label = "ranked windows", .colour = site_colour, .marker = support::legend_marker::line},
       {.label = "near misses", .colour = miss_colour, .marker = support::legend_marker::line, .alpha = 0.45f},
       {.label = "perch: claw x diameter", .colour = perch_colour, .marker = support::legend_marker::outline},
+      {.label = "heading: trunk side to tip", .colour = perch_colour, .marker = support::legend_marker::line},
       {.label = envelope_label,
        .colour = envelope_colour, .marker = support::legend_marker::outline},
   };
@@ -319,8 +337,10 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
     support::draw_circle(canvas, rect.centre, 0.5f * rect.length + 4.0f * stroke, perch_colour, stroke, 0.8f);
     support::fill_rotated_rect(canvas, rect, perch_colour, 0.3f);
     support::draw_rotated_rect(canvas, rect, perch_colour, std::max(2.0f, 0.8f * stroke));
-    const std::string label = format("#1 slope %.0f deg, d %.0f mm", static_cast<double>(m.slope_deg),
-                                     static_cast<double>(m.claw_diameter_mm));
+    draw_heading_arrow(canvas, m, perch_colour, stroke);
+    const std::string label =
+        format("#1 slope %.0f deg, d %.0f mm, heading %.0f deg", static_cast<double>(m.slope_deg),
+               static_cast<double>(m.claw_diameter_mm), static_cast<double>(m.heading_deg));
     const int w = support::text_width(label, text_scale);
     const int h = support::text_height(label, text_scale);
     const float reach = 0.5f * std::max(rect.length, rect.width) + 4.0f * stroke;

@@ -178,7 +178,8 @@ analysis_output run(const analysis_request& request, const run_config& config, c
     out.error = describe(found.error());
     return out;
   }
-  const perch_result& r = *found;
+  perch_result& r = *found;
+  r.cold = r.cold && config.timing;  // --no-timing: output that does not depend on the run
   out.outcome = r.outcome;
   out.sites.assign(r.sites.begin(), r.sites.end());
   out.mm_per_px = r.mm_per_px;

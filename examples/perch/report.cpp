@@ -23,6 +23,16 @@ float tidy(float v) {
   return static_cast<float>(std::round(static_cast<double>(v) / magnitude) * magnitude);
 }
 
+void write_pixel(json_writer& json, std::string_view key, pixel p) {
+  json.key(key).begin_array(json_layout::single_line).value(p.x).value(p.y).end_array();
+}
+
+void write_point3(json_writer& json, std::string_view key, const point3f& v) {
+  json.key(key).begin_array(json_layout::single_line);
+  for (int i = 0; i < 3; ++i) json.value(tidy(v[i]));
+  json.end_array();
+}
+
 void write_site(json_writer& json, const perch_site& s) {
   const window_measures& m = s.window;
   json.begin_object();
@@ -34,10 +44,14 @@ void write_site(json_writer& json, const perch_site& s) {
   json.member("penalty", tidy(s.penalty));
   json.member("branch", m.branch).member("component", m.component);
   json.member("rank", s.rank + 1);
+  json.member("heading_deg", tidy(m.heading_deg));
+  write_pixel(json, "base_end", m.base_end);
+  write_pixel(json, "tip_end", m.tip_end);
   if (m.has_position) {
-    json.key("position_m").begin_array(json_layout::single_line);
-    for (int i = 0; i < 3; ++i) json.value(tidy(m.position_m[i]));
-    json.end_array();
+    write_point3(json, "position_m", m.position_m);
+    write_point3(json, "base_end_m", m.base_end_m);
+    write_point3(json, "tip_end_m", m.tip_end_m);
+    write_point3(json, "axis_m", m.axis_m);
   }
   json.end_object();
 }
@@ -153,6 +167,7 @@ std::string detect_json(const perch_result& r, const document_source& source, co
   json.member("prune", tidy(t.prune_ms)).member("windows", tidy(t.windows_ms));
   json.member("ranking", tidy(t.ranking_ms)).member("total", tidy(t.total_ms));
   json.end_object();
+  json.member("cold", r.cold);
   json.end_object();
   return std::move(json).take();
 }

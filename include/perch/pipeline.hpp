@@ -133,6 +133,10 @@ struct perch_result {
   hole_fill_report holes{};                   ///< pinholes filled (`max_hole_px`)
   prune_report pruning{};                     ///< what pruning removed
   stage_timings timing{};
+  /// This call took new memory from the workspace's upstream (a first call, or a mask that
+  /// needs more than any before): its time includes the kernel faulting those pages in. A
+  /// warm call (false) allocates nothing.
+  bool cold = false;
 };
 
 namespace detail {

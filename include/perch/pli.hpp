@@ -93,10 +93,10 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
                                               const perch_options& options = {}) noexcept {
   ws.reset();
   detail::stage_clock clock(options.clock);
+  const std::size_t blocks_before = ws.upstream_allocations();
   PERCH_TRY(validate_non_empty(mask));
   PERCH_TRY(options.validate());
   PERCH_TRY(validate_platform(platform));
-  PERCH_TRY(options.pruning.validate());
   perch_result out;
   out.width = mask.width();
   out.height = mask.height();
@@ -108,6 +108,7 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   out.timing.prepare_ms = clock.lap();
   if (out.mask.tree_pixels == 0) {
     out.timing.total_ms = clock.total();
+    out.cold = ws.upstream_allocations() != blocks_before;
     return out;
   }
   PERCH_TRY(detail::distance_stage(ws, out, state));
@@ -124,6 +125,7 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   PERCH_TRY(detail::ranking_stage(platform, options, ws, out, state));
   out.timing.ranking_ms = clock.lap();
   out.timing.total_ms = clock.total();
+  out.cold = ws.upstream_allocations() != blocks_before;
   return out;
 }
 

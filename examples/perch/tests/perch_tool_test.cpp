@@ -104,8 +104,19 @@ const json_value& member(const json_value& v, const char* key) {
 void check_site(const json_value& site) {
   REQUIRE(site.is_object());
   for (const char* key : {"x", "y", "slope_deg", "diameter_mm", "curvature_per_mm", "penalty", "branch",
-                          "component"})
+                          "component", "heading_deg"})
     CHECK_MESSAGE(member(site, key).is_number(), key);
+  // The heading runs from the base end to the tip end, and its slope is the site's chord slope.
+  const json_value& base = member(site, "base_end");
+  const json_value& tip = member(site, "tip_end");
+  REQUIRE(base.items.size() == 2);
+  REQUIRE(tip.items.size() == 2);
+  const double dx = tip.items[0].number - base.items[0].number;
+  const double dy = tip.items[1].number - base.items[1].number;
+  const double heading = member(site, "heading_deg").number;
+  CHECK(heading > -180.0);
+  CHECK(heading <= 180.0);
+  CHECK(std::abs(std::remainder(std::atan2(-dy, dx) * 180.0 / 3.14159265358979 - heading, 360.0)) < 1.0);
 }
 
 /// Checks the detect document's shape (issue 6) and returns it.
@@ -241,6 +252,7 @@ TEST_CASE("detect: JSON of the issue's shape on stdout, exit 0") {
   CHECK(member(doc, "status").text == "ok");
   CHECK(member(doc, "platform").text == "tendon-claw");
   CHECK(member(member(doc, "timing_ms"), "total").number > 0);
+  CHECK(member(doc, "cold").boolean);  // one call per process: its workspace grew
   const json_value& best = member(doc, "perch");
   CHECK(member(best, "diameter_mm").number >= 30);
   CHECK(member(best, "diameter_mm").number <= 110);
