@@ -186,17 +186,19 @@ TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known 
     MESSAGE("failures:\n" << s.failures.str());
     CHECK(s.errors == 0);
     CHECK(s.built_none_perch == 0);
-    // Regression floors at the measured levels.
+    // Regression floors at the measured levels. The counts of wrong answers hold on the
+    // sanitizer's smaller population too (its members are the first of the same trees); the
+    // rates only on the whole.
     if (family == st::tree_family::arcs) {
-      CHECK(s.false_perches == 0);  // never a perch where none is safe
-      CHECK(s.rate() >= 0.68);      // measured 70.1 % (117 of 167)
-      CHECK(s.incorrect <= 3);      // measured 2
+      CHECK(s.false_perches == 0);               // never a perch where none is safe
+      if (!sanitized) CHECK(s.rate() >= 0.68);  // measured 70.1 % (117 of 167)
+      CHECK(s.incorrect <= 3);                   // measured 2
     } else {
       // Space colonisation grows limbs in 3-D; seen from the side, some run inside another
       // for a stretch, which the mask cannot show (the truth's gap there is negative): most of
       // the wrong sites are such fused pairs (see docs/accuracy-log.md).
       CHECK(s.false_perches <= 3);  // measured 2
-      CHECK(s.rate() >= 0.33);      // measured 35.1 % (27 of 77)
+      if (!sanitized) CHECK(s.rate() >= 0.33);  // measured 35.1 % (27 of 77)
       CHECK(s.incorrect <= 7);      // measured 6
     }
   }

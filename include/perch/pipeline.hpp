@@ -172,9 +172,7 @@ class stage_clock {
   auto out = ws.allocate<limb_neighbourhood>(limbs.size());
   auto gaps = ws.allocate<float>(total);
   auto reach = ws.allocate_zeroed<float>(total);
-  if (!out) return unexpected{out.error()};
-  if (!gaps) return unexpected{gaps.error()};
-  if (!reach) return unexpected{reach.error()};
+  PERCH_TRY(all_ok(out, gaps, reach));
   std::size_t used = 0;
   for (std::size_t l = 0; l < limbs.size(); ++l) {
     const std::size_t n = limbs[l].points.size();
@@ -244,14 +242,14 @@ template <BinaryView Mask, ScalePolicy Scale>
                                    pipeline_state<Scale>& s) noexcept {
   runs_wanted wanted;
   auto prepared = prepare_mask(mask, ws, options.downscale, &wanted);
-  if (!prepared) return unexpected{prepared.error()};
+  PERCH_TRY(all_ok(prepared));
   out.mask = *prepared;
   s.local = prepared->pixels;
   // Checked against the input before rescaling reads it (a depth view of another size, or a
   // null one, must not be resampled).
   PERCH_TRY(scale.validate(scale_context{mask.width(), mask.height(), 0, {}, {}, {}}));
   auto scaled = scale.rescaled(options.downscale, ws);
-  if (!scaled) return unexpected{scaled.error()};
+  PERCH_TRY(all_ok(scaled));
   s.scaled.emplace(*scaled);
   s.context = {prepared->analysed_width, prepared->analysed_height, 0, {}, prepared->offset, {}};
   PERCH_TRY(s.scaled->validate(s.context));
@@ -269,7 +267,7 @@ template <BinaryView Mask, ScalePolicy Scale>
       static_cast<std::int64_t>(static_cast<double>(options.max_hole_px) * factor2);
   if (hole_px > 0 && s.runs.describes(s.local)) {
     auto filled = fill_small_holes(s.local, s.runs, hole_px, ws);
-    if (!filled) return unexpected{filled.error()};
+    PERCH_TRY(all_ok(filled));
     out.holes = *filled;
     out.mask.tree_pixels += filled->filled_pixels;
   }
@@ -282,7 +280,7 @@ template <class Scale>
                                     pipeline_state<Scale>& s) noexcept {
   const int w = s.local.width(), h = s.local.height();
   auto dist2 = ws.allocate<std::uint32_t>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
-  if (!dist2) return unexpected{dist2.error()};
+  PERCH_TRY(all_ok(dist2));
   s.dist = image_view<std::uint32_t>(dist2->data(), w, h);
   PERCH_TRY(distance_transform_sq_foreground(image_view<const std::uint8_t>(s.local), s.dist, ws, s.runs));
   out.dist2 = s.dist;
@@ -296,7 +294,7 @@ template <Skeletoniser Skel, class Scale>
                                     pipeline_state<Scale>& s) noexcept {
   const int w = s.local.width(), h = s.local.height();
   auto pixels = ws.allocate<std::uint8_t>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
-  if (!pixels) return unexpected{pixels.error()};  // the skeletoniser writes every pixel
+  PERCH_TRY(all_ok(pixels));  // the skeletoniser writes every pixel
   s.skeleton = image_view<std::uint8_t>(pixels->data(), w, h);
   const image_view<const std::uint8_t> tree_mask(s.local);
   const image_view<const std::uint32_t> dist(s.dist);
@@ -317,7 +315,7 @@ template <class Scale>
                                  pipeline_state<Scale>& s) noexcept {
   auto built = build_skeleton_graph(image_view<const std::uint8_t>(s.skeleton),
                                     image_view<const std::uint32_t>(s.dist), ws, {}, s.listed);
-  if (!built) return unexpected{built.error()};
+  PERCH_TRY(all_ok(built));
   out.graph = std::move(*built);
   return {};
 }
@@ -331,8 +329,7 @@ template <Platform P, class Scale>
   skeleton_graph& graph = out.graph;
   auto sample = ws.allocate<pixel>(graph.skeleton_pixels());
   auto scratch = ws.allocate<float>(graph.skeleton_pixels());
-  if (!sample) return unexpected{sample.error()};
-  if (!scratch) return unexpected{scratch.error()};
+  PERCH_TRY(all_ok(sample, scratch));
   std::size_t k = 0;
   float max_radius = 0;
   graph.for_each_branch([&](const skeleton_branch& b) {
@@ -349,7 +346,7 @@ template <Platform P, class Scale>
   s.context.sample = sample->first(k);
   s.context.scratch = *scratch;
   auto global = s.scaled->global_mm_per_px(s.context);
-  if (!global) return unexpected{global.error()};
+  PERCH_TRY(all_ok(global));
   s.mm_per_px = *global;
   if (!(std::isfinite(s.mm_per_px) && s.mm_per_px > 0))
     return fail(errc::invalid_parameter, "scale policy gave a non-positive mm/px");
@@ -361,7 +358,7 @@ template <Platform P, class Scale>
   const pixel_box frame{-m.offset.x, -m.offset.y, m.analysed_width - 1 - m.offset.x,
                         m.analysed_height - 1 - m.offset.y};
   auto report = prune_skeleton_graph(graph, s.mm_per_px, ws, pruning, frame);
-  if (!report) return unexpected{report.error()};
+  PERCH_TRY(all_ok(report));
   out.pruning = *report;
   return {};
 }
@@ -375,22 +372,19 @@ template <class Scale>
   const skeleton_graph& graph = out.graph;
   auto node_distance = ws.allocate<float>(static_cast<std::size_t>(graph.topology().node_id_end()));
   auto next = ws.allocate<std::int32_t>(2 * static_cast<std::size_t>(graph.topology().edge_id_end()));
-  if (!node_distance) return unexpected{node_distance.error()};
-  if (!next) return unexpected{next.error()};
+  PERCH_TRY(all_ok(node_distance, next));
   s.node_distance = *node_distance;
   s.next = *next;
   PERCH_TRY(distances_to_trunk(graph, s.node_distance, ws));
   limb_continuations(graph, s.next, options.limbs, options.obstacles.twig_radius_px(s.mm_per_px));
   auto traced = trace_limbs(graph, s.next, ws);
-  if (!traced) return unexpected{traced.error()};
+  PERCH_TRY(all_ok(traced));
   out.limbs = *traced;
   auto stretches = ws.allocate<branch_stretch>(out.limbs.size());
   const auto components = static_cast<std::size_t>(std::max<std::int32_t>(graph.component_count(), 0));
   auto grounded = ws.allocate<std::uint8_t>(components);
   auto component_area = ws.allocate<float>(components);
-  if (!stretches) return unexpected{stretches.error()};
-  if (!grounded) return unexpected{grounded.error()};
-  if (!component_area) return unexpected{component_area.error()};
+  PERCH_TRY(all_ok(stretches, grounded, component_area));
   s.stretches = *stretches;
   s.grounded = *grounded;
   for (std::size_t l = 0; l < out.limbs.size(); ++l)
@@ -402,10 +396,10 @@ template <class Scale>
                                        image_view<const std::uint32_t>(s.dist),
                                        runs_of(s.listed, s.skeleton), s.mm_per_px, ws,
                                        options.obstacles);
-  if (!obstacles) return unexpected{obstacles.error()};
+  PERCH_TRY(all_ok(obstacles));
   s.obstacles = *obstacles;
   auto surroundings = limb_neighbourhoods(out.limbs, s.obstacles.own, ws);
-  if (!surroundings) return unexpected{surroundings.error()};
+  PERCH_TRY(all_ok(surroundings));
   s.clearance = limb_clearance(s.obstacles.discs, *surroundings);
   return {};
 }
@@ -434,9 +428,7 @@ template <BinaryView Mask, Platform P, class Scale>
   auto windows = bounded_vector<window_measures>::make(ws, std::min(bound, options.max_windows));
   auto window_scratch = ws.allocate<float>(window_scratch_floats(longest));
   auto diameters = ws.allocate<float>(longest);
-  if (!windows) return unexpected{windows.error()};
-  if (!window_scratch) return unexpected{window_scratch.error()};
-  if (!diameters) return unexpected{diameters.error()};
+  PERCH_TRY(all_ok(windows, window_scratch, diameters));
   s.windows = *windows;
   const prepared_mask& m = out.mask;
   for (std::size_t l = 0; l < out.limbs.size(); ++l) {
@@ -486,7 +478,7 @@ template <Platform P, class Scale>
   };
   auto ranked = rank_windows(s.windows.items(), platform.constraints, platform.scorer,
                              make_context, ws, options.ranking);
-  if (!ranked) return unexpected{ranked.error()};
+  PERCH_TRY(all_ok(ranked));
   auto input_pixel = [&](pixel p) {
     const point2f c = out.mask.to_input(to_point(p));
     return pixel{std::clamp<std::int32_t>(static_cast<std::int32_t>(std::lround(c.x())), 0,
@@ -502,8 +494,7 @@ template <Platform P, class Scale>
   };
   auto sites = ws.allocate<perch_site>(ranked->sites.size());
   auto misses = ws.allocate<near_miss>(ranked->near_misses.size());
-  if (!sites) return unexpected{sites.error()};
-  if (!misses) return unexpected{misses.error()};
+  PERCH_TRY(all_ok(sites, misses));
   std::copy(ranked->sites.begin(), ranked->sites.end(), sites->begin());
   std::copy(ranked->near_misses.begin(), ranked->near_misses.end(), misses->begin());
   for (perch_site& site : *sites) to_input(site.window);

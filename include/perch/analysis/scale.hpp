@@ -161,7 +161,7 @@ struct depth_scale {
     const int w = scaled_extent(depth_mm.width(), factor);
     const int h = scaled_extent(depth_mm.height(), factor);
     auto buffer = ws.allocate<std::uint16_t>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
-    if (!buffer) return unexpected{buffer.error()};
+    PERCH_TRY(all_ok(buffer));
     image_view<std::uint16_t> reduced(buffer->data(), w, h);
     auto source = [&](int a, int limit) {
       const auto v = static_cast<int>((static_cast<float>(a) + 0.5f) / factor);

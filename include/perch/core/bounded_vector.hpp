@@ -30,7 +30,7 @@ class bounded_vector {
   /// A vector of `capacity` slots drawn from `ws`.
   [[nodiscard]] static result<bounded_vector> make(workspace& ws, std::size_t capacity) noexcept {
     auto storage = ws.allocate<T>(capacity);
-    if (!storage) return unexpected{storage.error()};
+    PERCH_TRY(all_ok(storage));
     return bounded_vector(*storage);
   }
 

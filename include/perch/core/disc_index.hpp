@@ -67,9 +67,7 @@ class disc_index {
     auto sorted = ws.allocate<owned_disc>(discs.size());
     auto start = ws.allocate_zeroed<std::uint32_t>(cells + 1);
     auto largest = ws.allocate_zeroed<float>(cells);
-    if (!sorted) return unexpected{sorted.error()};
-    if (!start) return unexpected{start.error()};
-    if (!largest) return unexpected{largest.error()};
+    PERCH_TRY(all_ok(sorted, start, largest));
     for (const owned_disc& d : discs) {
       const std::size_t c = out.cell_of(d.x, d.y);
       ++(*start)[c + 1];

@@ -121,7 +121,7 @@ template <BinaryView Mask>
   const pixel_box box = tree_bounds(mask);
   if (box.empty()) {
     auto pixels = ws.allocate_zeroed<std::uint8_t>(4);
-    if (!pixels) return unexpected{pixels.error()};
+    PERCH_TRY(all_ok(pixels));
     out.pixels = image_view<std::uint8_t>(pixels->data(), 2, 2);
     return out;
   }
@@ -137,7 +137,7 @@ template <BinaryView Mask>
   const int w = ax1 - ax0 + 3;
   const int h = ay1 - ay0 + 3;
   auto pixels = ws.allocate<std::uint8_t>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
-  if (!pixels) return unexpected{pixels.error()};
+  PERCH_TRY(all_ok(pixels));
   out.pixels = image_view<std::uint8_t>(pixels->data(), w, h);
   out.offset = {ax0 - 1, ay0 - 1};
   // The border is cleared here; every pixel inside it is written below.
@@ -151,7 +151,7 @@ template <BinaryView Mask>
     // list is full; from there on the rows are binarised.
     const auto entry = ws.mark();
     auto list = detail::run_list_builder::make(ws, h, detail::max_runs(w, h));
-    if (!list) return unexpected{list.error()};
+    PERCH_TRY(all_ok(list));
     bool listing = true;
     list->start_row(0);
     for (int y = box.y_min; y <= box.y_max; ++y) {
@@ -202,11 +202,7 @@ template <BinaryView Mask>
   auto first = ws.allocate<std::int32_t>(spans);      // a span's first input column
   auto start = ws.allocate<std::int32_t>(spans + 1);  // and its first weight
   auto width = ws.allocate<double>(spans);
-  if (!column) return unexpected{column.error()};
-  if (!weight) return unexpected{weight.error()};
-  if (!first) return unexpected{first.error()};
-  if (!start) return unexpected{start.error()};
-  if (!width) return unexpected{width.error()};
+  PERCH_TRY(all_ok(column, weight, first, start, width));
   auto overlap = [](double a0, double a1, double b0, double b1) {
     return std::max(0.0, std::min(a1, b1) - std::max(a0, b0));
   };

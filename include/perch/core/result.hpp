@@ -172,6 +172,17 @@ using status = result<void>;
   return unexpected{code, detail, needed};
 }
 
+/// Success when every one of `results` holds a value, else the first one's error: the one way
+/// to pass on the errors of results already in hand (several workspace arrays taken at once,
+/// or one), with `PERCH_TRY(all_ok(a, b, c))`. Reads them in place.
+template <class... R>
+[[nodiscard]] constexpr status all_ok(const R&... results) noexcept {
+  status out{};
+  ((out.has_value() && !results.has_value() ? (out = unexpected{results.error()}, true) : true),
+   ...);
+  return out;
+}
+
 }  // namespace perch
 
 /// Returns the error of `expr` (a result) from the enclosing function if it holds one.

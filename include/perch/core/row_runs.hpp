@@ -94,11 +94,11 @@ class run_list_builder {
                                                      std::size_t max_runs) noexcept {
     const auto entry = ws.mark();
     auto first = ws.allocate<std::uint32_t>(static_cast<std::size_t>(height) + 1);
-    if (!first) return unexpected{first.error()};
+    PERCH_TRY(all_ok(first));
     auto runs = ws.allocate<row_run>(max_runs);
-    if (!runs) {
+    if (auto ok = all_ok(runs); !ok) {
       ws.rewind(entry);
-      return unexpected{runs.error()};
+      return unexpected{ok.error()};
     }
     run_list_builder b;
     b.first_ = first->data();
@@ -169,7 +169,7 @@ template <BinaryView Mask>
   const int h = mask.height();
   const auto entry = ws.mark();
   auto list = detail::run_list_builder::make(ws, h, max_runs);
-  if (!list) return unexpected{list.error()};
+  PERCH_TRY(all_ok(list));
   for (int y = 0; y < h; ++y) {
     list->start_row(y);
     bool full = false;  // `add` adds nothing once the list is full

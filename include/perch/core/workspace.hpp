@@ -157,7 +157,7 @@ class workspace {
     if (count > max_request_bytes / sizeof(T)) return fail(errc::size_overflow, "workspace");
     if (count == 0) return std::span<T>{};
     auto bytes = allocate_bytes(footprint<T>(count));
-    if (!bytes) return unexpected{bytes.error()};
+    PERCH_TRY(all_ok(bytes));
     T* first = ::new (static_cast<void*>(*bytes)) T[count];
     return std::span<T>{first, count};
   }

@@ -111,13 +111,13 @@ class adjacency_list {
       return fail(errc::invalid_parameter, "adjacency_list capacity above 2^30");
     adjacency_list g;
     auto nodes = ws.allocate<node_slot>(node_capacity);
-    if (!nodes) return unexpected{nodes.error()};
+    PERCH_TRY(all_ok(nodes));
     auto edges = ws.allocate<edge_slot>(edge_capacity);
-    if (!edges) return unexpected{edges.error()};
+    PERCH_TRY(all_ok(edges));
     auto next = ws.allocate<std::int32_t>(2 * edge_capacity);
-    if (!next) return unexpected{next.error()};
+    PERCH_TRY(all_ok(next));
     auto prev = ws.allocate<std::int32_t>(2 * edge_capacity);
-    if (!prev) return unexpected{prev.error()};
+    PERCH_TRY(all_ok(prev));
     g.nodes_ = *nodes;
     g.edges_ = *edges;
     g.next_ = *next;

@@ -232,12 +232,7 @@ struct pixel_map {
   auto values = ws.allocate<std::uint32_t>(slots);
   auto walk = ws.allocate<pixel>(pixels);   // the pixels not on a limb
   auto queue = ws.allocate<pixel>(pixels);  // the breadth-first walk's queue
-  if (!own) return unexpected{own.error()};
-  if (!discs) return unexpected{discs.error()};
-  if (!keys) return unexpected{keys.error()};
-  if (!values) return unexpected{values.error()};
-  if (!walk) return unexpected{walk.error()};
-  if (!queue) return unexpected{queue.error()};
+  PERCH_TRY(all_ok(own, discs, keys, values, walk, queue));
   // Limb points, then the skeleton's other pixels (`pending`), mapped to their discs.
   const detail::pixel_map disc_of{*keys, *values, width};
   constexpr std::uint32_t pending = detail::pixel_map::absent - 1;
@@ -331,7 +326,7 @@ struct pixel_map {
     }
   }
   auto index = disc_index::build(std::span<const owned_disc>(*discs).first(count), width, height, ws);
-  if (!index) return unexpected{index.error()};
+  PERCH_TRY(all_ok(index));
   return limb_obstacles{*index, *own};
 }
 

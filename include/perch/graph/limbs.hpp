@@ -253,11 +253,7 @@ struct skeleton_limb {
   auto points = ws.allocate<pixel>(total);
   auto radii = ws.allocate<float>(total);
   auto edges = ws.allocate<edge_id>(total);
-  if (!limbs) return unexpected{limbs.error()};
-  if (!visited) return unexpected{visited.error()};
-  if (!points) return unexpected{points.error()};
-  if (!radii) return unexpected{radii.error()};
-  if (!edges) return unexpected{edges.error()};
+  PERCH_TRY(all_ok(limbs, visited, points, radii, edges));
   std::size_t limb_count = 0, used = 0;
   graph.for_each_branch([&](const skeleton_branch& b) {
     if ((*visited)[static_cast<std::size_t>(b.id)] != 0) return;

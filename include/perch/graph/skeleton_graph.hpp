@@ -296,27 +296,27 @@ template <BinaryView Skeleton>
   const std::size_t node_cap = g.node_capacity();
 
   auto pos_s = ws.allocate<pixel>(n);
-  if (!pos_s) return unexpected{pos_s.error()};
+  PERCH_TRY(all_ok(pos_s));
   auto mask_s = ws.allocate<std::uint8_t>(n);
-  if (!mask_s) return unexpected{mask_s.error()};
+  PERCH_TRY(all_ok(mask_s));
   auto path_s = ws.allocate<std::uint8_t>(n);
-  if (!path_s) return unexpected{path_s.error()};
+  PERCH_TRY(all_ok(path_s));
   auto kind_s = ws.allocate<std::uint8_t>(n);
-  if (!kind_s) return unexpected{kind_s.error()};
+  PERCH_TRY(all_ok(kind_s));
   auto owner_s = ws.allocate<std::uint32_t>(n);
-  if (!owner_s) return unexpected{owner_s.error()};
+  PERCH_TRY(all_ok(owner_s));
   auto stack_s = ws.allocate<std::uint32_t>(n);
-  if (!stack_s) return unexpected{stack_s.error()};
+  PERCH_TRY(all_ok(stack_s));
   auto rows_s = ws.allocate<std::uint32_t>(2 * n);  // `above`, then `below`
-  if (!rows_s) return unexpected{rows_s.error()};
+  PERCH_TRY(all_ok(rows_s));
   auto radius_s = ws.allocate<float>(n);
-  if (!radius_s) return unexpected{radius_s.error()};
+  PERCH_TRY(all_ok(radius_s));
   auto parent_s = ws.allocate<std::int32_t>(node_cap);
-  if (!parent_s) return unexpected{parent_s.error()};
+  PERCH_TRY(all_ok(parent_s));
   auto number_s = ws.allocate<std::int32_t>(node_cap);
-  if (!number_s) return unexpected{number_s.error()};
+  PERCH_TRY(all_ok(number_s));
   auto largest_s = ws.allocate<float>(node_cap);
-  if (!largest_s) return unexpected{largest_s.error()};
+  PERCH_TRY(all_ok(largest_s));
   const std::span<pixel> pos = *pos_s;
   const std::span<std::uint8_t> mask = *mask_s;
   const std::span<std::uint8_t> path = *path_s;
@@ -393,7 +393,7 @@ template <BinaryView Skeleton>
     if (is(i, pixel_kind::junction)) {
       if (owner[i] != no_owner) continue;
       auto id = g.add_node();
-      if (!id) return unexpected{id.error()};
+      PERCH_TRY(all_ok(id));
       const std::uint32_t tag = node_owner_tag | static_cast<std::uint32_t>(*id);
       std::size_t top = 0;
       stack[top++] = static_cast<std::uint32_t>(i);
@@ -428,7 +428,7 @@ template <BinaryView Skeleton>
       d.radius_px = radius(i);
       d.pixel_count = is(i, pixel_kind::isolated) ? 1u : 0u;
       auto id = g.add_node(d);
-      if (!id) return unexpected{id.error()};
+      PERCH_TRY(all_ok(id));
       owner[i] = node_owner_tag | static_cast<std::uint32_t>(*id);
     }
   }
@@ -487,7 +487,7 @@ template <BinaryView Skeleton>
     d.line.count = static_cast<std::uint32_t>(used - d.line.offset);
     d.pixel_total = d.line.count;
     auto e = g.add_edge(from, to, d);
-    if (!e) return unexpected{e.error()};
+    PERCH_TRY(all_ok(e));
     return {};
   };
   for (std::size_t i = 0; i < n; ++i) {
@@ -508,7 +508,7 @@ template <BinaryView Skeleton>
     d.position = pos[i];
     d.radius_px = radius(i);
     auto id = g.add_node(d);
-    if (!id) return unexpected{id.error()};
+    PERCH_TRY(all_ok(id));
     PERCH_TRY(trace(i, no_owner, *id));
   }
 
@@ -659,24 +659,24 @@ template <BinaryView Skeleton>
   skeleton_graph out;
   using access = detail::skeleton_graph_access;
   auto topology = skeleton_graph::topology_type::make(ws, node_cap, edge_cap);
-  if (!topology) return unexpected{topology.error()};
+  PERCH_TRY(all_ok(topology));
   access::topology(out) = std::move(*topology);
   for (int pool = 0; pool < 2; ++pool) {
     auto points = ws.allocate<pixel>(n);
-    if (!points) return unexpected{points.error()};
+    PERCH_TRY(all_ok(points));
     auto radii = ws.allocate<float>(n);
-    if (!radii) return unexpected{radii.error()};
+    PERCH_TRY(all_ok(radii));
     access::points(out, pool) = *points;
     access::radii(out, pool) = *radii;
   }
   auto trunks = ws.allocate<node_id>(node_cap);
-  if (!trunks) return unexpected{trunks.error()};
+  PERCH_TRY(all_ok(trunks));
   access::trunks(out) = *trunks;
   access::skeleton_pixels(out) = n;
   const workspace::checkpoint scratch = ws.mark();
   const status traced = detail::trace_skeleton(skeleton, dist2, runs, out, ws);
   ws.rewind(scratch);
-  if (!traced) return unexpected{traced.error()};
+  PERCH_TRY(all_ok(traced));
   return result<skeleton_graph>(std::move(out));
 }
 

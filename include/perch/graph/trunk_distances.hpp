@@ -116,9 +116,9 @@ class node_heap {
   const workspace::checkpoint scratch = ws.mark();
   auto heap = ws.allocate<std::int32_t>(ids);
   auto slot = ws.allocate<std::int32_t>(ids);
-  if (!heap || !slot) {
+  if (auto ok = all_ok(heap, slot); !ok) {
     ws.rewind(scratch);
-    return unexpected{!heap ? heap.error() : slot.error()};
+    return unexpected{ok.error()};
   }
   detail::node_heap queue(*heap, *slot, per_node_px.first(ids));
   for (std::int32_t c = 0; c < graph.component_count(); ++c) {

@@ -67,7 +67,7 @@ template <BinaryView Mask, MutableImageView Labels>
     return fail(errc::invalid_parameter, "connectivity");
   const std::size_t bound = provisional_label_bound(mask.width(), mask.height(), conn);
   auto parent = ws.allocate<std::int32_t>(bound + 1);
-  if (!parent) return unexpected{parent.error()};
+  PERCH_TRY(all_ok(parent));
   return union_find{parent->data(), 0, static_cast<std::int32_t>(bound)};
 }
 
@@ -104,7 +104,7 @@ requires std::same_as<typename Labels::value_type, std::int32_t>
     connectivity conn = connectivity::eight) noexcept {
   const workspace::checkpoint start = ws.mark();
   auto eq = detail::prepare_labelling(mask, labels, ws, conn);
-  if (!eq) return unexpected{eq.error()};
+  PERCH_TRY(all_ok(eq));
   const std::int32_t n =
       detail::label_first_pass_any<detail::polarity::foreground>(mask, labels, *eq, conn);
   detail::label_second_pass<detail::polarity::foreground>(mask, labels, *eq,
@@ -128,7 +128,7 @@ requires std::same_as<typename Labels::value_type, std::int32_t>
   stats.clear();
   const workspace::checkpoint start = ws.mark();
   auto eq = detail::prepare_labelling(mask, labels, ws, conn);
-  if (!eq) return unexpected{eq.error()};
+  PERCH_TRY(all_ok(eq));
   const std::int32_t n =
       detail::label_first_pass_any<detail::polarity::foreground>(mask, labels, *eq, conn);
   if (static_cast<std::size_t>(n) > stats.capacity()) {

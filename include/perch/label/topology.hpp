@@ -57,16 +57,16 @@ template <BinaryView Mask>
   const std::size_t bound = detail::provisional_label_bound(width, height, connectivity::four);
   auto label_pixels =
       ws.allocate<std::int32_t>(static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
-  if (!label_pixels) return unexpected{label_pixels.error()};
+  PERCH_TRY(all_ok(label_pixels));
   auto parent = ws.allocate<std::int32_t>(bound + 1);
-  if (!parent) {
+  if (auto ok = all_ok(parent); !ok) {
     ws.rewind(start);
-    return unexpected{parent.error()};
+    return unexpected{ok.error()};
   }
   auto outside = ws.allocate_zeroed<std::uint8_t>(bound + 1);
-  if (!outside) {
+  if (auto ok = all_ok(outside); !ok) {
     ws.rewind(start);
-    return unexpected{outside.error()};
+    return unexpected{ok.error()};
   }
   const image_view<std::int32_t> labels(label_pixels->data(), width, height);
 

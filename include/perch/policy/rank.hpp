@@ -76,8 +76,7 @@ template <Constraint C, Scorer S, class MakeContext>
   constexpr std::size_t leaves = leaf_count<C>;
   auto rejections = ws.allocate<rejection_count>(leaves);
   auto misses = ws.allocate<near_miss>(leaves);
-  if (!rejections) return unexpected{rejections.error()};
-  if (!misses) return unexpected{misses.error()};
+  PERCH_TRY(all_ok(rejections, misses));
   for_each_leaf(constraints, [&](const auto& leaf, std::size_t i) {
     using leaf_type = std::remove_cvref_t<decltype(leaf)>;
     (*rejections)[i] = {leaf_type::name, leaf_type::unit, 0};
@@ -89,7 +88,7 @@ template <Constraint C, Scorer S, class MakeContext>
     std::uint32_t index;
   };
   auto candidates = ws.allocate<candidate>(windows.size());
-  if (!candidates) return unexpected{candidates.error()};
+  PERCH_TRY(all_ok(candidates));
   std::size_t viable = 0;
 
   for (std::size_t w = 0; w < windows.size(); ++w) {
@@ -141,7 +140,7 @@ template <Constraint C, Scorer S, class MakeContext>
             });
 
   auto sites = ws.allocate<perch_site>(std::min(options.top_k, viable));
-  if (!sites) return unexpected{sites.error()};
+  PERCH_TRY(all_ok(sites));
   std::size_t chosen = 0;
   for (std::size_t c = 0; c < viable && chosen < sites->size(); ++c) {
     const window_measures& m = windows[(*candidates)[c].index];

@@ -181,7 +181,7 @@ struct medial_axis {
       img = detail::load_in_place(mask, skeleton, runs, load);
     } else {
       auto loaded = detail::load_padded(mask, ws);
-      if (!loaded) return unexpected{loaded.error()};
+      PERCH_TRY(all_ok(loaded));
       img = *loaded;
     }
     img.runs = runs;
@@ -197,7 +197,7 @@ struct medial_axis {
     if (!peeled) return peeled;
     if (thinness == perch::thinness::one_pixel) {
       auto queue = ws.allocate<std::uint32_t>(cells + 16);
-      if (!queue) return unexpected{queue.error()};
+      PERCH_TRY(all_ok(queue));
       (void)detail::remove_blocks(img, mask, dist2, queue->data());
     }
     if (!in_place) detail::store_skeleton(img, skeleton);
@@ -243,10 +243,7 @@ struct medial_axis {
     auto order_memory = ws.allocate<std::uint32_t>(img.pixels);
     auto ring_memory = ws.allocate<std::uint32_t>(ring_size);
     auto packed_memory = ws.allocate<std::uint16_t>(packing ? cells + packed_slack : 0);
-    if (!fill_memory) return unexpected{fill_memory.error()};
-    if (!order_memory) return unexpected{order_memory.error()};
-    if (!ring_memory) return unexpected{ring_memory.error()};
-    if (!packed_memory) return unexpected{packed_memory.error()};
+    PERCH_TRY(all_ok(fill_memory, order_memory, ring_memory, packed_memory));
     std::uint32_t* fill = fill_memory->data();  // per key: the end of its slice so far
     std::uint32_t* order = order_memory->data();
     std::uint32_t* ring = ring_memory->data();
@@ -255,7 +252,7 @@ struct medial_axis {
     std::uint32_t* copy = nullptr;
     if (Distances::copied && !packing) {
       auto copy_memory = ws.allocate<std::uint32_t>(cells);
-      if (!copy_memory) return unexpected{copy_memory.error()};
+      PERCH_TRY(all_ok(copy_memory));
       copy = copy_memory->data();
     }
     const std::uint32_t* keys = copy;
@@ -370,7 +367,7 @@ struct medial_axis {
       });
     }
     auto start_memory = ws.allocate<std::uint32_t>(std::size_t{top_key} + 1);
-    if (!start_memory) return unexpected{start_memory.error()};
+    PERCH_TRY(all_ok(start_memory));
     std::uint32_t* start = start_memory->data();  // per key: the beginning of its slice
     for (std::uint32_t k = 0; k <= top_key; ++k) {
       fill[k + 1] += fill[k];

@@ -117,18 +117,16 @@ inline status thin_two_subiterations(const neighbourhood_table* tables,
                                      thinness thin, mask_runs runs) noexcept {
   const auto entry = ws.mark();
   auto loaded = load_padded(mask, ws);
-  if (!loaded) return unexpected{loaded.error()};
+  PERCH_TRY(all_ok(loaded));
   padded_image img = *loaded;
   img.runs = runs_of(runs, mask);
   const std::size_t n = padded_pixels(img.width, img.height) + 16;
   auto a_memory = ws.allocate<std::uint32_t>(n);
   auto b_memory = ws.allocate<std::uint32_t>(n);
   auto d_memory = ws.allocate<std::uint32_t>(n);
-  if (!a_memory || !b_memory || !d_memory) {
+  if (auto ok = all_ok(a_memory, b_memory, d_memory); !ok) {
     ws.rewind(entry);
-    if (!a_memory) return unexpected{a_memory.error()};
-    if (!b_memory) return unexpected{b_memory.error()};
-    return unexpected{d_memory.error()};
+    return unexpected{ok.error()};
   }
   std::uint32_t* list[2] = {a_memory->data(), b_memory->data()};
   std::size_t size[2] = {0, 0};

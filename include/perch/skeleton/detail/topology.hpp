@@ -209,7 +209,7 @@ struct padded_image {
   img.inv_stride = 1.0 / static_cast<double>(img.stride);
   for (int k = 0; k < 8; ++k) img.offset[k] = code_dy[k] * img.stride + code_dx[k];
   auto memory = ws.allocate<std::uint8_t>(padded_pixels(img.width, img.height));
-  if (!memory) return unexpected{memory.error()};
+  PERCH_TRY(all_ok(memory));
   img.px = memory->data();
   std::memset(img.px, 0, static_cast<std::size_t>(img.stride));
   std::memset(img.px + (static_cast<std::ptrdiff_t>(img.height) + 1) * img.stride, 0,
