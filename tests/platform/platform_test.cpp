@@ -62,3 +62,23 @@ TEST_CASE("platforms: bad parameters are named statuses") {
   std::get<perch::diameter_range>(claw.constraints.parts) = {120.0f, 30.0f};
   CHECK(perch::validate_platform(claw).error().code == perch::errc::range_inverted);
 }
+
+TEST_CASE("platforms: parts that do not state the geometry's numbers are refused") {
+  // Built from its geometry (aggregate initialisation): agrees.
+  const perch::tendon_claw heavier{.geometry = {.mass_kg = 2.5f, .grasp_min_mm = 40.0f}};
+  CHECK(perch::validate_platform(heavier));
+  CHECK(std::get<perch::bending_stress>(heavier.constraints.parts).mass_kg == 2.5f);
+  // The geometry changed after its parts were built from it: they would judge another range.
+  perch::tendon_claw changed{};
+  changed.geometry.grasp_min_mm = 40.0f;
+  CHECK(perch::validate_platform(changed).error().code == perch::errc::invalid_parameter);
+  perch::tendon_claw mass{};
+  mass.geometry.mass_kg = 3.0f;
+  CHECK(perch::validate_platform(mass).error().code == perch::errc::invalid_parameter);
+  perch::tendon_claw scorer{};
+  scorer.scorer.diameter_max_mm = 90.0f;
+  CHECK(perch::validate_platform(scorer).error().code == perch::errc::invalid_parameter);
+  perch::tendon_claw resolution{};
+  std::get<perch::resolved_diameter>(resolution.constraints.parts).min_mm = 35.0f;
+  CHECK(perch::validate_platform(resolution).error().code == perch::errc::invalid_parameter);
+}

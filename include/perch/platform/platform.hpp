@@ -11,6 +11,8 @@
 #include "perch/core/result.hpp"
 #include "perch/policy/composites.hpp"
 #include "perch/policy/concepts.hpp"
+#include "perch/policy/constraints.hpp"
+#include "perch/policy/scorers.hpp"
 
 namespace perch {
 
@@ -40,12 +42,47 @@ concept Platform = requires(const P& p) {
   requires Scorer<std::remove_cvref_t<decltype(p.scorer)>>;
 };
 
-/// Validates a platform's geometry, constraints and scorer.
+namespace detail {
+
+/// Whether the stock parts of `p` state its geometry's numbers: every `diameter_range` and
+/// `resolved_diameter` its grasp range, every `bending_stress` its mass, a `pli_penalty` scorer
+/// its grasp range. A platform writes each number once, in `geometry`, and builds its parts
+/// from it; parts changed apart from it (or a geometry changed after they were built from it)
+/// would judge one range and prune or rank by another.
+template <Platform P>
+[[nodiscard]] constexpr status parts_agree(const P& p) noexcept {
+  const platform_geometry& g = p.geometry;
+  status out{};
+  for_each_leaf(p.constraints, [&](const auto& leaf, std::size_t) {
+    using L = std::remove_cvref_t<decltype(leaf)>;
+    if constexpr (std::same_as<L, diameter_range> || std::same_as<L, resolved_diameter>) {
+      if (out && (leaf.min_mm != g.grasp_min_mm || leaf.max_mm != g.grasp_max_mm))
+        out = fail(errc::invalid_parameter, "platform: a diameter range is not geometry's");
+    } else if constexpr (std::same_as<L, bending_stress>) {
+      if (out && leaf.mass_kg != g.mass_kg)
+        out = fail(errc::invalid_parameter, "platform: bending_stress.mass_kg is not geometry's");
+    }
+  });
+  using S = std::remove_cvref_t<decltype(p.scorer)>;
+  if constexpr (std::same_as<S, pli_penalty>) {
+    if (out && (p.scorer.diameter_min_mm != g.grasp_min_mm ||
+                p.scorer.diameter_max_mm != g.grasp_max_mm))
+      out = fail(errc::invalid_parameter, "platform: the scorer's diameters are not geometry's");
+  }
+  return out;
+}
+
+}  // namespace detail
+
+/// Validates a platform's geometry, constraints and scorer, and that its stock parts state its
+/// geometry's numbers (`detail::parts_agree`: `invalid_parameter` naming the part that does
+/// not).
 template <Platform P>
 [[nodiscard]] constexpr status validate_platform(const P& p) noexcept {
   PERCH_TRY(p.geometry.validate());
   PERCH_TRY(validate_policy(p.constraints));
-  return validate_policy(p.scorer);
+  PERCH_TRY(validate_policy(p.scorer));
+  return detail::parts_agree(p);
 }
 
 }  // namespace perch
