@@ -155,7 +155,7 @@ class fresh_pages final : public std::pmr::memory_resource {
   void* do_allocate(std::size_t bytes, std::size_t) override {
     void* p = ::mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (p == MAP_FAILED) return nullptr;
-    perch::detail::pmr_blocks::hint_huge_pages(p, bytes);
+    perch::detail::hint_huge_pages(p, bytes);
     return p;
   }
   void do_deallocate(void* p, std::size_t bytes, std::size_t) override { ::munmap(p, bytes); }

@@ -16,6 +16,7 @@
 #include <limits>
 #include <span>
 #include <string_view>
+#include <utility>
 
 #include "perch/analysis.hpp"
 #include "perch/core.hpp"
@@ -106,11 +107,13 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
 
   PERCH_TRY(detail::prepare_stage(mask, scale, options, ws, out, state));
   out.timing.prepare_ms = clock.lap();
-  if (out.mask.tree_pixels == 0) {
+  // The totals of a call, whichever stage it ends after.
+  auto finished = [&]() -> result<perch_result> {
     out.timing.total_ms = clock.total();
     out.cold = ws.upstream_allocations() != blocks_before;
-    return out;
-  }
+    return std::move(out);
+  };
+  if (out.mask.tree_pixels == 0) return finished();
   PERCH_TRY(detail::distance_stage(ws, out, state));
   out.timing.distance_ms = clock.lap();
   PERCH_TRY(detail::skeleton_stage(skeletoniser, ws, out, state));
@@ -124,9 +127,7 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   out.timing.windows_ms = clock.lap();
   PERCH_TRY(detail::ranking_stage(platform, options, ws, out, state));
   out.timing.ranking_ms = clock.lap();
-  out.timing.total_ms = clock.total();
-  out.cold = ws.upstream_allocations() != blocks_before;
-  return out;
+  return finished();
 }
 
 /// `find_perch` with the default skeleton (medial axis).

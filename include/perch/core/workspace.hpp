@@ -23,6 +23,21 @@ namespace perch {
 
 namespace detail {
 
+/// Marks the whole 2 MiB pages inside [memory, memory + bytes) for transparent huge pages
+/// (Linux; nothing elsewhere).
+inline void hint_huge_pages(void* memory, std::size_t bytes) noexcept {
+#if defined(__linux__) && !defined(PERCH_NO_HUGE_PAGE_HINT)
+  constexpr std::uintptr_t page = std::uintptr_t{2} << 20;
+  const auto start = reinterpret_cast<std::uintptr_t>(memory);
+  const std::uintptr_t begin = (start + page - 1) / page * page;
+  const std::uintptr_t end = (start + bytes) / page * page;
+  if (end > begin) (void)::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+  (void)memory;
+  (void)bytes;
+#endif
+}
+
 /// An owning workspace's blocks from a `std::pmr::memory_resource` (the context), reached only
 /// through the function pointers an owning constructor stores: the bump allocator itself names
 /// no allocator, so a firmware image that only borrows a buffer links no heap, no `pmr` and no
@@ -40,21 +55,6 @@ struct pmr_blocks {
                         std::size_t alignment) noexcept {
     static_cast<std::pmr::memory_resource*>(resource)->deallocate(block, bytes, alignment);
   }
-
-  /// Marks the whole 2 MiB pages inside [memory, memory + bytes) for transparent huge pages
-  /// (Linux; nothing elsewhere).
-  static void hint_huge_pages(void* memory, std::size_t bytes) noexcept {
-#if defined(__linux__) && !defined(PERCH_NO_HUGE_PAGE_HINT)
-    constexpr std::uintptr_t page = std::uintptr_t{2} << 20;
-    const auto start = reinterpret_cast<std::uintptr_t>(memory);
-    const std::uintptr_t begin = (start + page - 1) / page * page;
-    const std::uintptr_t end = (start + bytes) / page * page;
-    if (end > begin) (void)::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
-#else
-    (void)memory;
-    (void)bytes;
-#endif
-  }
 };
 
 /// The default owning workspace's blocks: the heap through the non-throwing aligned `new`, so
@@ -64,7 +64,7 @@ struct pmr_blocks {
 struct heap_blocks {
   static void* take(void*, std::size_t bytes, std::size_t alignment) noexcept {
     void* memory = ::operator new(bytes, std::align_val_t{alignment}, std::nothrow);
-    if (memory != nullptr) pmr_blocks::hint_huge_pages(memory, bytes);
+    if (memory != nullptr) hint_huge_pages(memory, bytes);
     return memory;
   }
   static void give_back(void*, void* block, std::size_t, std::size_t alignment) noexcept {
