@@ -10,6 +10,7 @@
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 
 #include "perch/core/geometry.hpp"
@@ -30,9 +31,12 @@ struct distance_options {
 
   /// `invalid_parameter` (naming the field) unless both spacings are finite and positive.
   [[nodiscard]] constexpr status validate() const noexcept {
-    if (!(spacing_x > 0.0f) || !(spacing_x <= 3.0e38f))
+    // (`std::isfinite` is not constexpr: the largest float bounds the finite ones, and a NaN
+    // fails both comparisons.)
+    constexpr float largest = std::numeric_limits<float>::max();
+    if (!(spacing_x > 0.0f && spacing_x <= largest))
       return fail(errc::invalid_parameter, "distance_options.spacing_x");
-    if (!(spacing_y > 0.0f) || !(spacing_y <= 3.0e38f))
+    if (!(spacing_y > 0.0f && spacing_y <= largest))
       return fail(errc::invalid_parameter, "distance_options.spacing_y");
     return {};
   }
