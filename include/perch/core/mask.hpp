@@ -60,6 +60,10 @@ struct prepared_mask {
   int analysed_width = 0;     ///< the whole input image at `factor`
   int analysed_height = 0;
   std::int64_t tree_pixels = 0;  ///< non-zero pixels in `pixels`
+  /// The runs of `pixels` when `prepare_mask` was asked to list them (`runs_listing::list`)
+  /// and they fit (at most `detail::max_runs` of the box's size); else empty, and the kernels
+  /// that take runs scan `pixels` instead. They borrow workspace memory like `pixels`.
+  row_runs runs{};
 
   /// A point of the analysed frame in input-image pixels. Scalar division on purpose: Eigen's
   /// vectorised divide is a reciprocal estimate on 32-bit NEON, and this value is rounded to a
@@ -71,6 +75,13 @@ struct prepared_mask {
   [[nodiscard]] float input_coordinate(float analysed) const noexcept {
     return (analysed + 0.5f) / factor - 0.5f;
   }
+};
+
+/// Whether `prepare_mask` also lists the row runs of the mask it makes (`prepared_mask::runs`),
+/// for the kernels that take them (distance transform, skeletonisers, hole filling, graph).
+enum class runs_listing : std::uint8_t {
+  skip,  ///< no runs (the default)
+  list,  ///< at factor 1 while the input rows are copied, else by a scan of the reduced copy
 };
 
 /// Size of the analysed image for an input dimension at `factor` (at least 1).
@@ -139,14 +150,13 @@ template <BinaryView Mask>
   return count;
 }
 
-/// At factor 1, as `copy_binarised`, and the runs listed into `wanted` on the way: each input
-/// row's runs, written as runs of ones into a zeroed row and listed, until the list is full;
-/// from there on the rows are binarised (and `wanted` stays without runs, the list's memory
+/// At factor 1, as `copy_binarised`, and the runs listed into `out.runs` on the way: each
+/// input row's runs, written as runs of ones into a zeroed row and listed, until the list is
+/// full; from there on the rows are binarised (and `out.runs` stays empty, the list's memory
 /// given back).
 template <BinaryView Mask>
 [[nodiscard]] result<std::int64_t> copy_listing_runs(const Mask& mask, const pixel_box& box,
-                                                     const prepared_mask& out, workspace& ws,
-                                                     runs_wanted& wanted) noexcept {
+                                                     prepared_mask& out, workspace& ws) noexcept {
   const int w = out.pixels.width();
   const int h = out.pixels.height();
   const auto entry = ws.mark();
@@ -172,8 +182,8 @@ template <BinaryView Mask>
   }
   if (listing) {
     list->start_row(h - 1);
-    wanted.runs = list->finish(static_cast<const void*>(out.pixels.data()), w, h,
-                               out.pixels.stride());
+    out.runs = list->finish(static_cast<const void*>(out.pixels.data()), w, h,
+                            out.pixels.stride());
   } else {
     ws.rewind(entry);
   }
@@ -254,12 +264,16 @@ template <BinaryView Mask>
 /// An empty mask gives a 2×2 all-background image and `tree_pixels == 0` (not an error).
 /// Errors: view errors of `mask`; `invalid_parameter` for a factor outside (0, 1];
 /// `workspace_too_small` / `out_of_memory` from the workspace.
-/// Complexity: O(box pixels), one pass.
-/// (`wanted`: internal, see `detail::runs_wanted`; taken at factor 1 only.)
+/// With `runs_listing::list`, the copy's row runs too (`prepared_mask::runs`: found on the input
+/// rows while they are copied at factor 1, by a scan of the reduced copy otherwise); a copy
+/// with more than `detail::max_runs` of them (speckle) gets none, and the memory of the list is
+/// given back. Their bytes are `row_runs_workspace_bytes(height, detail::max_runs(width,
+/// height))` of the copy, besides `prepare_mask_workspace_bytes`.
+/// Complexity: O(box pixels), one pass (and one read of the reduced copy for its runs).
 template <BinaryView Mask>
 [[nodiscard]] result<prepared_mask> prepare_mask(const Mask& mask, workspace& ws,
                                                  float factor = 1.0f,
-                                                 detail::runs_wanted* wanted = nullptr) noexcept {
+                                                 runs_listing listing = runs_listing::skip) noexcept {
   PERCH_TRY(validate_non_empty(mask));
   if (!(factor > 0.0f && factor <= 1.0f)) return fail(errc::invalid_parameter, "downscale factor");
   prepared_mask out;
@@ -275,16 +289,25 @@ template <BinaryView Mask>
   }
   const pixel_box analysed = detail::analysed_box(box, factor, out);
   PERCH_TRY(detail::allocate_bordered(analysed, ws, out));
-  if (factor == 1.0f && wanted != nullptr) {
-    auto count = detail::copy_listing_runs(mask, box, out, ws, *wanted);
+  const bool list = listing == runs_listing::list;
+  if (factor == 1.0f && list) {
+    auto count = detail::copy_listing_runs(mask, box, out, ws);
     PERCH_TRY(all_ok(count));
     out.tree_pixels = *count;
-  } else if (factor == 1.0f) {
+    return out;
+  }
+  if (factor == 1.0f) {
     out.tree_pixels = detail::copy_binarised(mask, box, out);
-  } else {
-    auto count = detail::reduce_by_area(mask, analysed, factor, out, ws);
-    PERCH_TRY(all_ok(count));
-    out.tree_pixels = *count;
+    return out;
+  }
+  auto count = detail::reduce_by_area(mask, analysed, factor, out, ws);
+  PERCH_TRY(all_ok(count));
+  out.tree_pixels = *count;
+  if (list) {
+    const int w = out.pixels.width(), h = out.pixels.height();
+    auto found = find_row_runs(image_view<const std::uint8_t>(out.pixels), ws, detail::max_runs(w, h));
+    if (!found && found.error().code != errc::capacity_exceeded) return unexpected{found.error()};
+    if (found) out.runs = *found;
   }
   return out;
 }

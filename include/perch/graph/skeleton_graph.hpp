@@ -16,6 +16,7 @@
 #include "perch/core/image_view.hpp"
 #include "perch/core/prefetch.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/row_runs.hpp"
 #include "perch/core/union_find.hpp"
 #include "perch/core/workspace.hpp"
 #include "perch/graph/adjacency_list.hpp"
@@ -691,19 +692,21 @@ template <BinaryView Skeleton>
 /// grown. Complexity: O(width × height / 32 + skeleton pixels).
 /// Implements §"Section into Branches" and §"Create Graph" of the paper, with junction clusters
 /// as single nodes and branches traced once (the paper's prototype doubled every length).
-/// (`within`: internal, see `detail::mask_runs`: the runs of the mask a built-in skeletoniser
-/// thinned, which contain the skeleton, so only they are scanned for its pixels.)
+/// `within` (the overload that takes it): row runs that contain every skeleton pixel, so only
+/// they are scanned for them: the runs of the mask the skeleton was thinned from, by a
+/// skeletoniser whose skeleton lies inside its mask (every `RowRunSkeletoniser`'s does). Runs
+/// of an image of another size are ignored (the skeleton is scanned); a skeleton pixel outside
+/// them would be missed.
 template <BinaryView Skeleton>
 [[nodiscard]] result<skeleton_graph> build_skeleton_graph(const Skeleton& skeleton,
                                                           image_view<const std::uint32_t> dist2,
                                                           workspace& ws,
-                                                          const graph_options& options = {},
-                                                          detail::mask_runs within = {}) noexcept {
+                                                          const graph_options& options,
+                                                          const row_runs& within) noexcept {
   PERCH_TRY(validate_non_empty(skeleton));
   PERCH_TRY(validate_non_empty(dist2));
   PERCH_TRY(same_size(skeleton, dist2));
-  const row_runs* runs =
-      within.runs != nullptr && within.runs->spans(skeleton) ? within.runs : nullptr;
+  const row_runs* runs = within.spans(skeleton) ? &within : nullptr;
   const std::size_t n = detail::count_set_pixels(skeleton, runs);
   const std::size_t node_cap = options.max_nodes != 0 ? options.max_nodes : n;
   const std::size_t edge_cap = options.max_branches != 0 ? options.max_branches : n;
@@ -730,6 +733,15 @@ template <BinaryView Skeleton>
   ws.rewind(scratch);
   PERCH_TRY(all_ok(traced));
   return result<skeleton_graph>(std::move(out));
+}
+
+/// `build_skeleton_graph` scanning the whole skeleton for its pixels.
+template <BinaryView Skeleton>
+[[nodiscard]] result<skeleton_graph> build_skeleton_graph(const Skeleton& skeleton,
+                                                          image_view<const std::uint32_t> dist2,
+                                                          workspace& ws,
+                                                          const graph_options& options = {}) noexcept {
+  return build_skeleton_graph(skeleton, dist2, ws, options, row_runs{});
 }
 
 }  // namespace perch

@@ -85,14 +85,20 @@ struct medial_axis {
     return workspace::footprint<std::uint8_t>(n) + (peel > clean_up ? peel : clean_up);
   }
 
-  /// (`listed`: internal, see `detail::mask_runs`.)
+  [[nodiscard]] status operator()(image_view<const std::uint8_t> mask,
+                                  image_view<const std::uint32_t> dist2,
+                                  image_view<std::uint8_t> skeleton, workspace& ws) const noexcept {
+    return (*this)(mask, dist2, skeleton, ws, row_runs{});
+  }
+  /// With the row runs of `mask` (see `RowRunSkeletoniser`): the same skeleton, the border
+  /// pixels and keys found from the runs, and the clean-up scanning only them.
   [[nodiscard]] status operator()(image_view<const std::uint8_t> mask,
                                   image_view<const std::uint32_t> dist2,
                                   image_view<std::uint8_t> skeleton, workspace& ws,
-                                  detail::mask_runs listed = {}) const noexcept {
+                                  const row_runs& runs) const noexcept {
     PERCH_TRY(detail::validate_skeleton_views(mask, dist2, skeleton));
     const auto entry = ws.mark();
-    const status s = run(mask, dist2, skeleton, ws, detail::runs_of(listed, mask));
+    const status s = run(mask, dist2, skeleton, ws, detail::runs_of(&runs, mask));
     ws.rewind(entry);
     return s;
   }
