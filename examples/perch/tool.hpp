@@ -205,5 +205,7 @@ int run_skeleton(int argc, const char* const* argv);
 int run_graph(int argc, const char* const* argv);
 int run_synth(int argc, const char* const* argv);
 int run_eval(int argc, const char* const* argv);
+/// `perch eval --sequences N`: the tracker on synthetic approach sequences (track_eval.cpp).
+int run_track_eval(int argc, const char* const* argv);
 
 }  // namespace perch::tool

@@ -268,6 +268,9 @@ class perch_tracker {
     std::string_view constraint;
     std::int32_t track;  // matched track index, -1 none
   };
+  /// How far along the limb, in windows, a near miss speaks for a track's spot.
+  static constexpr float near_miss_reach_windows = 0.35f;
+
   struct pair_cost {
     float cost;
     std::uint16_t track, cand;
@@ -351,7 +354,12 @@ class perch_tracker {
                          (options_.across_gate_windows * window);
     const float angle = axis_angle_deg(t.axis, c.axis) / options_.axis_gate_deg;
     if (!(std::abs(along) <= 1 && std::abs(across) <= 1 && angle <= 1)) return -1;
-    return along * along + across * across + angle * angle;
+    const float cost = along * along + across * across + angle * angle;
+    if (c.feasible) return cost;
+    // A near miss is one window failing one rule, the closest such window: it speaks for the
+    // track's own spot only, and a feasible site within the gate is the better match.
+    if (std::abs(along) * options_.along_gate_windows > near_miss_reach_windows) return -1;
+    return cost + 3.0f;
   }
 
   /// Greedy assignment: every gated pair, cheapest first; a track and a candidate take part in
