@@ -87,7 +87,7 @@ struct frame_report {
   std::string input;
   std::string error;
   const tracking_result* tracked = nullptr;
-  bool motion_given = false;
+  std::string_view motion_source = "identity";  ///< given, estimated or identity
   camera_motion motion{};
   float find_ms = 0, track_ms = 0;
 };
@@ -134,7 +134,7 @@ std::string frame_json(const frame_report& f) {
         .end_object();
   }
   json.end_array();
-  json.key("motion").begin_object().key("source").value(f.motion_given ? "given" : "identity");
+  json.key("motion").begin_object().key("source").value(f.motion_source);
   json.key("h").begin_array(st::json_layout::single_line);
   for (const float v : f.motion.h) json.value(static_cast<double>(v));
   json.end_array().end_object();
@@ -159,7 +159,7 @@ result<perch_result> find_with(const image<std::uint8_t>& mask, const run_config
 
 /// `find_perch` with the tool's options, then `tracker.update`.
 tracking_result analyse_and_track(const image<std::uint8_t>& mask, const run_config& config,
-                                  const camera_motion& motion, perch_tracker& tracker, workspace& ws,
+                                  perch_tracker& tracker, motion_estimator& estimator, workspace& ws,
                                   frame_report& report) {
   return visit_platform(config.platform, [&](const auto& platform) {
     const std::int64_t t0 = steady_ns();
@@ -168,7 +168,17 @@ tracking_result analyse_and_track(const image<std::uint8_t>& mask, const run_con
                      : find_with(mask, config, platform, trunk_prior{config.scale.trunk_mm}, ws);
     const std::int64_t t1 = steady_ns();
     if (!found) report.error = describe(found.error());
-    const tracking_result r = tracker.update(found, motion);
+    if (found) {
+      // The estimator sees every analysed frame, so its previous keypoints are the last frame's.
+      const motion_estimate estimate = estimator.update(*found);
+      if (report.motion_source != "given" && estimate.estimated) {
+        report.motion = estimate.motion;
+        report.motion_source = "estimated";
+      }
+    } else {
+      estimator.reset();
+    }
+    const tracking_result r = tracker.update(found, report.motion);
     const std::int64_t t2 = steady_ns();
     report.find_ms = config.timing ? static_cast<float>(static_cast<double>(t1 - t0) * 1e-6) : 0;
     report.track_ms = config.timing ? static_cast<float>(static_cast<double>(t2 - t1) * 1e-6) : 0;
@@ -187,14 +197,14 @@ int run_track(int argc, const char* const* argv) {
   args.add_option("motion", "motion.csv",
                   "camera motion per frame: lines 'frame,h00,h01,h02,h10,h11,h12,h20,h21,h22', the\n"
                   "homography from the previous frame's pixels to this frame's (perch synth\n"
-                  "--sequence writes one); frames not listed: identity");
+                  "--sequence writes one); frames not listed: estimated from the masks");
   add_pipeline_options(args, depth_option::not_offered);
   add_mask_options(args);
   args.set_epilog(
       "Each line: {\"frame\", \"input\", \"status\", \"target\": {\"id\", \"state\", \"x\", \"y\",\n"
       "\"heading_deg\", \"slope_deg\", \"diameter_mm\", \"penalty\"} or null, \"change\": {\"from\", \"to\",\n"
       "\"reason\"[, \"constraint\"]} or null, \"tracks\": [{\"id\", \"state\", \"x\", \"y\", \"age\", \"hits\",\n"
-      "\"misses\", \"penalty\"}], \"motion\": {\"source\", \"h\"}, \"timing_ms\": {\"find_perch\", \"track\"}}.\n"
+      "\"misses\", \"penalty\"}], \"motion\": {\"source\": given|estimated|identity, \"h\"}, \"timing_ms\": {\"find_perch\", \"track\"}}.\n"
       "status: ok, no_perch, no_tree, wrong_size, bad_motion, missing_frame (an unreadable mask or\n"
       "a failed analysis, with \"error\"). Exit status: 0; 2 for bad arguments.\n"
       "Example: perch synth --sequence 3 --out /tmp/seq && perch track /tmp/seq --motion\n"
@@ -224,20 +234,24 @@ int run_track(int argc, const char* const* argv) {
     }
   workspace ws;
   perch_tracker tracker;
+  motion_estimator estimator;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     frame_report report;
     report.frame = static_cast<int>(i);
     report.input = frames[i].string();
     const auto given = motions.find(report.frame);
-    report.motion_given = given != motions.end();
-    report.motion = report.motion_given ? given->second : camera_motion::identity();
+    if (given != motions.end()) {
+      report.motion_source = "given";
+      report.motion = given->second;
+    }
     loaded_mask mask;
     tracking_result r;
     if (std::string e = load_mask(frames[i], reading, mask); !e.empty()) {
       report.error = std::move(e);
+      estimator.reset();
       r = tracker.skip(report.motion);
     } else {
-      r = analyse_and_track(mask.pixels, config, report.motion, tracker, ws, report);
+      r = analyse_and_track(mask.pixels, config, tracker, estimator, ws, report);
     }
     report.tracked = &r;
     if (const std::string e = write_text({}, frame_json(report) + "\n"); !e.empty()) {

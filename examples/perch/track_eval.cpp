@@ -88,6 +88,7 @@ sequence_score score_sequence(int index, const st::sequence_options& options, mo
   score.index = index;
   const st::approach_sequence seq = st::evaluation_sequence(index, options);
   perch_tracker tracker;
+  motion_estimator estimator;
   target_run run;
   point2f last_target = point2f::Zero();
   bool had_target = false;
@@ -104,9 +105,11 @@ sequence_score score_sequence(int index, const st::sequence_options& options, mo
       score.error = describe(found.error());
       return score;
     }
-    const camera_motion motion =
-        source == motion_source::truth ? frame.motion : camera_motion::identity();
     const std::int64_t t0 = now_ns();
+    const camera_motion motion = source == motion_source::truth ? frame.motion
+                                 : source == motion_source::estimated
+                                     ? estimator.update(*found).motion
+                                     : camera_motion::identity();
     const tracking_result r = tracker.update(*found, motion);
     tracker_ns += now_ns() - t0;
 
@@ -264,7 +267,7 @@ int run_track_eval(int argc, const char* const* argv) {
   args.add_option("sequences", "N", "number of sequences", "40");
   args.add_option("frames", "F", "frames per sequence", "90");
   args.add_option("motion", "SOURCE", "the tracker's camera motion: truth (as visual odometry would\n"
-                                      "give it) or none (identity)", "truth");
+                                      "give it), estimated (from the masks: motion_estimator) or none (identity)", "truth");
   args.add_option("jobs", "N", "worker threads; 0 = all cores", "0", 'j');
   args.add_option("json", "OUT.json", "also write the totals as JSON");
   args.add_flag("rows", "one row per sequence");
@@ -289,11 +292,13 @@ int run_track_eval(int argc, const char* const* argv) {
       return exit_usage;
     }
   const std::string motion = args.get_string("motion", "truth").value;
-  if (motion != "truth" && motion != "none") {
-    report_error("eval", "--motion must be truth or none, not " + motion);
+  if (motion != "truth" && motion != "none" && motion != "estimated") {
+    report_error("eval", "--motion must be truth, estimated or none, not " + motion);
     return exit_usage;
   }
-  const motion_source source = motion == "truth" ? motion_source::truth : motion_source::none;
+  const motion_source source = motion == "truth"       ? motion_source::truth
+                               : motion == "estimated" ? motion_source::estimated
+                                                       : motion_source::none;
   st::sequence_options options;
   options.frames = frames.value;
   const auto count = static_cast<std::size_t>(n.value);
