@@ -34,9 +34,10 @@ inline constexpr std::size_t max_sized_constraints = 64;
 /// Every graph capacity is the skeleton's pixels, so nodes, edges, limbs and components are at
 /// most `pixels`; the limbs' points are their edges' pixels plus a node pixel per junction they
 /// run through (at most one per edge), so at most 2 × `pixels`, which bounds the longest
-/// stretch and the obstacle discs' pixels too; sites and near misses are windows.
+/// stretch and the obstacle discs' pixels too; at most `sites` sites are ranked.
 [[nodiscard]] constexpr std::size_t after_skeleton_bytes(int w, int h, std::size_t pixels,
-                                                         std::size_t windows) noexcept {
+                                                         std::size_t windows,
+                                                         std::size_t sites) noexcept {
   const std::size_t points = 2 * pixels;
   std::size_t bytes = skeleton_graph_workspace_bytes(w, h, pixels);
   // The scale's sample of the skeleton and its scratch.
@@ -56,7 +57,7 @@ inline constexpr std::size_t max_sized_constraints = 64;
            workspace::footprint<float>(window_scratch_floats(points)) +
            workspace::footprint<float>(points);
   bytes += workspace::footprint<std::uint64_t>(windows) +
-           2 * workspace::footprint<perch_site>(windows) +
+           2 * workspace::footprint<perch_site>(sites < windows ? sites : windows) +
            workspace::footprint<rejection_count>(max_sized_constraints) +
            2 * workspace::footprint<near_miss>(max_sized_constraints);
   return bytes;
@@ -79,13 +80,14 @@ inline constexpr std::size_t max_sized_constraints = 64;
 
 /// The bound for an analysed frame of `w` × `h` pixels with its border (the box within it),
 /// `reduction` the bytes of `prepare_mask`'s reduction and `depth` those of a depth image
-/// reduced to the frame (both 0 at full size), for skeletonisers `S...`.
+/// reduced to the frame (both 0 at full size), for skeletonisers `S...` and at most `sites`
+/// ranked sites.
 /// Held for the whole call: the box, its runs, the depth image, the distance map and the
 /// skeleton; on top, one at a time: the hole filling's, the distance transform's or the
 /// skeletoniser's scratch, or everything from the graph on. 0 when the sum would not fit.
 template <Skeletoniser... S>
 [[nodiscard]] constexpr std::size_t find_perch_bytes(int w, int h, std::size_t reduction,
-                                                     std::size_t depth,
+                                                     std::size_t depth, std::size_t sites,
                                                      const perch_limits& limits) noexcept {
   const auto frame = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   // Under 1 KiB per pixel, per skeleton pixel and per window: with 2 KiB of headroom for each,
@@ -107,7 +109,7 @@ template <Skeletoniser... S>
       static_cast<int>(side), static_cast<int>((box + side - 1) / side), tree);
   const std::size_t scratch[] = {fill_holes_workspace_bytes(h, runs), distance_workspace_bytes(w, h),
                                  skeletonise,
-                                 after_skeleton_bytes(w, h, skeleton, limits.windows)};
+                                 after_skeleton_bytes(w, h, skeleton, limits.windows, sites)};
   std::size_t most_scratch = 0;
   for (const std::size_t s : scratch) most_scratch = s > most_scratch ? s : most_scratch;
   // An unaligned buffer loses up to one alignment to the workspace's first allocation.
@@ -130,7 +132,7 @@ template <Skeletoniser... S>
   if (width <= 0 || height <= 0 || std::int64_t{width} * height > max_image_pixels ||
       !limits.validate())
     return 0;
-  return detail::find_perch_bytes<S...>(width + 2, height + 2, 0, 0, limits);
+  return detail::find_perch_bytes<S...>(width + 2, height + 2, 0, 0, limits.windows, limits);
 }
 
 /// Bytes of workspace `find_perch` needs at most for a `width` × `height` mask with `options`
@@ -154,7 +156,7 @@ template <Skeletoniser... S>
           : 0;
   return detail::find_perch_bytes<S...>(w + 2, h + 2,
                                         reduction_workspace_bytes(width, options.downscale), depth,
-                                        options.limits);
+                                        options.ranking.top_k, options.limits);
 }
 
 /// The limits `result`'s mask met: `find_perch` with these (or larger) in
