@@ -74,27 +74,32 @@ struct prepared_mask {
 };
 
 /// Size of the analysed image for an input dimension at `factor` (at least 1).
-[[nodiscard]] inline int scaled_extent(int input, float factor) noexcept {
+[[nodiscard]] constexpr int scaled_extent(int input, float factor) noexcept {
+  if (factor == 1.0f) return std::max(1, input);  // a constant expression at full size
   return std::max(1, static_cast<int>(std::ceil(static_cast<double>(input) * static_cast<double>(factor) - 1e-6)));
+}
+
+/// Bytes `prepare_mask` takes besides the analysed box when it reduces a box `box_width` input
+/// pixels wide by `factor` (0 at factor 1): the column sums, and the spans' weights, first
+/// columns and widths.
+[[nodiscard]] constexpr std::size_t reduction_workspace_bytes(int box_width, float factor) noexcept {
+  if (!(factor < 1.0f)) return 0;
+  const auto spans = static_cast<std::size_t>(scaled_extent(box_width, factor) + 3);
+  // The input columns under the analysed ones reach up to 1 / factor + 1 past the box.
+  const auto reach = static_cast<std::size_t>(std::ceil(1.0 / static_cast<double>(factor)));
+  const std::size_t columns = static_cast<std::size_t>(box_width) + 2 * reach + 3;
+  return workspace::footprint<float>(columns) + workspace::footprint<double>(columns + spans) +
+         workspace::footprint<std::int32_t>(spans) +
+         workspace::footprint<std::int32_t>(spans + 1) + workspace::footprint<double>(spans);
 }
 
 /// Bytes `prepare_mask` takes from the workspace for a tree box of `box_width` × `box_height`
 /// input pixels at `factor` (an upper bound when factor < 1).
-[[nodiscard]] inline std::size_t prepare_mask_workspace_bytes(int box_width, int box_height,
+[[nodiscard]] constexpr std::size_t prepare_mask_workspace_bytes(int box_width, int box_height,
                                                               float factor = 1.0f) noexcept {
   const auto w = static_cast<std::size_t>(scaled_extent(box_width, factor) + 3);
   const auto h = static_cast<std::size_t>(scaled_extent(box_height, factor) + 3);
-  std::size_t bytes = workspace::footprint<std::uint8_t>(w * h);
-  if (factor < 1.0f) {  // the column sums, and the spans' weights, first columns and widths
-    // The input columns under the analysed ones reach up to 1 / factor + 1 past the box.
-    const auto reach = static_cast<std::size_t>(std::ceil(1.0 / static_cast<double>(factor)));
-    const std::size_t columns = static_cast<std::size_t>(box_width) + 2 * reach + 3;
-    const std::size_t spans = w;
-    bytes += workspace::footprint<float>(columns) + workspace::footprint<double>(columns + spans) +
-             workspace::footprint<std::int32_t>(spans) +
-             workspace::footprint<std::int32_t>(spans + 1) + workspace::footprint<double>(spans);
-  }
-  return bytes;
+  return workspace::footprint<std::uint8_t>(w * h) + reduction_workspace_bytes(box_width, factor);
 }
 
 /// Binarises the tree's bounding box of `mask` into workspace memory with a one-pixel border,
@@ -107,7 +112,7 @@ struct prepared_mask {
 /// Errors: view errors of `mask`; `invalid_parameter` for a factor outside (0, 1];
 /// `workspace_too_small` / `out_of_memory` from the workspace.
 /// Complexity: O(box pixels), one pass.
-/// (`wanted`: internal, see `detail::runs_wanted`; taken at factor 1 only.)
+/// (`wanted`: internal, see `detail::runs_wanted`; its runs taken at factor 1 only.)
 template <BinaryView Mask>
 [[nodiscard]] result<prepared_mask> prepare_mask(const Mask& mask, workspace& ws,
                                                  float factor = 1.0f,
@@ -136,6 +141,10 @@ template <BinaryView Mask>
                            static_cast<int>(std::ceil((box.y_max + 1) * static_cast<double>(factor))) - 1);
   const int w = ax1 - ax0 + 3;
   const int h = ay1 - ay0 + 3;
+  if (wanted != nullptr &&
+      static_cast<std::size_t>(w) * static_cast<std::size_t>(h) > wanted->max_box_pixels)
+    return fail(errc::capacity_exceeded, "perch_options.limits.box_pixels",
+                static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
   auto pixels = ws.allocate<std::uint8_t>(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
   PERCH_TRY(all_ok(pixels));
   out.pixels = image_view<std::uint8_t>(pixels->data(), w, h);

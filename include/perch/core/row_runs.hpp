@@ -187,16 +187,21 @@ namespace detail {
 
 /// How many runs of tree `find_perch` lists for a `width` × `height` box (`row_runs`): one per
 /// 16 pixels and one per row; a tree with more (speckle) is scanned instead of listed.
+[[nodiscard]] constexpr std::size_t max_runs(std::size_t box_pixels, int height) noexcept {
+  return box_pixels / 16 + static_cast<std::size_t>(height);
+}
 [[nodiscard]] constexpr std::size_t max_runs(int width, int height) noexcept {
-  return static_cast<std::size_t>(width) * static_cast<std::size_t>(height) / 16 +
-         static_cast<std::size_t>(height);
+  return max_runs(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), height);
 }
 
 /// `find_perch` asking `prepare_mask` for the runs of the mask it makes, found on the input
 /// rows while they are copied (instead of by another scan of the copy): `runs` is set when at
 /// most `max_runs` of the copy's size fit, and left empty otherwise (the kernels then scan).
+/// And the largest box its limits allow (`perch_limits::box_pixels`), refused before the box
+/// takes memory.
 struct runs_wanted {
   row_runs runs{};
+  std::size_t max_box_pixels = static_cast<std::size_t>(-1);
 };
 
 /// `find_perch` handing a skeletoniser the runs of its mask. Internal: the skeletonisers trust
