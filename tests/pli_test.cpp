@@ -584,9 +584,11 @@ TEST_CASE("find_perch: bad input gets a status, never a crash") {
   CHECK(perch::find_perch(mask.view(), no_weights, perch::trunk_prior{}, ws).error().code ==
         errc::weights_not_normalised);
   perch::perch_options few;
-  few.max_windows = 2;
-  CHECK(perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws, few)
-            .error().code == errc::capacity_exceeded);
+  few.limits.windows = 2;
+  const auto too_many = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws, few);
+  REQUIRE_FALSE(too_many);
+  CHECK(too_many.error().code == errc::capacity_exceeded);
+  CHECK(too_many.error().detail == "perch_options.limits.windows");
 }
 
 namespace {

@@ -27,8 +27,15 @@ struct perch_report {
 };
 
 std::uint8_t mask[height][width];
-/// The workspace: this tree's call needs 182 848 bytes (`high_water`), with margin (README).
-constexpr std::size_t buffer_bytes = 256 * 1024;
+/// What this camera's masks need at most (measured with `perch::measured_limits` on a corpus,
+/// with margin; this tree needs 5 907 tree pixels, 210 skeleton pixels and 8 windows): any box,
+/// a third of the frame on the tree. `find_perch` refuses a mask beyond them by name.
+constexpr perch::perch_limits limits{.box_pixels = 0, .tree_pixels = 6400,
+                                     .skeleton_pixels = 400, .windows = 64};
+/// The workspace: enough for every mask within `limits`.
+constexpr std::size_t buffer_bytes =
+    perch::find_perch_workspace_bytes<perch::medial_axis>(width, height, limits);
+static_assert(buffer_bytes > 0, "the limits do not fit this target");
 alignas(perch::workspace::alignment) std::byte buffer[buffer_bytes];
 perch_report report;
 
@@ -55,7 +62,10 @@ void draw_tree() {
 void find() {
   perch::workspace ws{std::span<std::byte>(buffer)};
   const perch::image_view<const std::uint8_t> view(&mask[0][0], width, height);
-  auto found = perch::find_perch(view, perch::tendon_claw{}, perch::fixed_scale{mm_per_px}, ws);
+  perch::perch_options options;
+  options.limits = limits;
+  auto found = perch::find_perch(view, perch::tendon_claw{}, perch::fixed_scale{mm_per_px},
+                                 perch::medial_axis{}, ws, options);
   report.high_water = static_cast<std::uint32_t>(ws.high_water());
   if (!found) {
     report.status = static_cast<std::int32_t>(found.error().code);

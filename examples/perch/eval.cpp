@@ -471,6 +471,9 @@ void print_row(const tree_record& r, int width, int kind_width) {
 }  // namespace
 
 int run_eval(int argc, const char* const* argv) {
+  // Sequences are scored by their own subcommand, with its own options.
+  for (int i = 2; i < argc; ++i)
+    if (std::string_view(argv[i]).starts_with("--sequences")) return run_track_eval(argc, argv);
   st::arg_parser args(
       "perch eval",
       "Runs detect on synthetic trees and judges the best site by the trees' truth (the physical\n"
@@ -505,6 +508,7 @@ int run_eval(int argc, const char* const* argv) {
       "       \"results\": [...]}\n"
       "Exit status: 0; 2 for bad arguments or an unreadable mask or truth file (its row says\n"
       "which); 1 for an internal failure.\n"
+      "Tracking on synthetic approach sequences: perch eval --sequences N (see its --help).\n"
       "Examples: perch eval --population arcs:200,colonisation:200\n"
       "          perch synth --seed 100 --count 30 --out /tmp/trees && perch eval /tmp/trees --known-scale");
   int exit = exit_ok;

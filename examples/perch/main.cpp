@@ -22,6 +22,7 @@ constexpr perch::support::command_info commands[] = {
     {"graph", "the pruned skeleton graph of a mask as JSON"},
     {"synth", "write synthetic tree masks with their ground truth"},
     {"eval", "score detect against the ground truth of synthetic trees"},
+    {"track", "follow the perch across the frames of a directory (one JSON line per frame)"},
 };
 
 /// What the exception in flight is, for a person.
@@ -76,6 +77,7 @@ int dispatch(int argc, char** argv) {
   if (command == "graph") return run_graph(argc, argv);
   if (command == "synth") return run_synth(argc, argv);
   if (command == "eval") return run_eval(argc, argv);
+  if (command == "track") return run_track(argc, argv);
   std::fprintf(stderr, "perch: unknown command '%.*s'\n\n%s", static_cast<int>(command.size()),
                command.data(), usage.c_str());
   return exit_usage;

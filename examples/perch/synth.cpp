@@ -210,6 +210,9 @@ std::string write_pair(const std::filesystem::path& dir, const std::string& name
 }  // namespace
 
 int run_synth(int argc, const char* const* argv) {
+  // Approach sequences have their own options (track.cpp).
+  for (int i = 2; i < argc; ++i)
+    if (std::string_view(argv[i]).starts_with("--sequence")) return run_synth_sequence(argc, argv);
   support::arg_parser args("perch synth",
                            "Writes synthetic tree masks (OUT/synth-SEED.png, 255 = tree) with their ground\n"
                            "truth (OUT/synth-SEED.truth.json) for perch eval. Tree i of the run has seed\n"
@@ -226,7 +229,8 @@ int run_synth(int argc, const char* const* argv) {
   args.add_option("form", "FORM",
                   "colonisation crown: decurrent, excurrent, columnar, irregular or mixed", "mixed");
   args.add_flag("shapes", "also write the hand-made shapes shape-limb, shape-y, shape-steep");
-  args.set_epilog("Example (the sample data): perch synth --seed 1 --count 6 --shapes --out examples/data");
+  args.set_epilog("Approach sequences for perch track: perch synth --sequence I (see its --help).\n"
+                  "Example (the sample data): perch synth --seed 1 --count 6 --shapes --out examples/data");
   int exit = exit_ok;
   if (!parse_or_exit(args, argc, argv, "synth", exit)) return exit;
   const auto seed = args.get_integer<std::uint32_t>("seed", 1u, 0u, 0xFFFFFFF0u);

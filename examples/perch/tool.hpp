@@ -205,5 +205,10 @@ int run_skeleton(int argc, const char* const* argv);
 int run_graph(int argc, const char* const* argv);
 int run_synth(int argc, const char* const* argv);
 int run_eval(int argc, const char* const* argv);
+/// `perch eval --sequences N`: the tracker on synthetic approach sequences (track_eval.cpp).
+int run_track_eval(int argc, const char* const* argv);
+int run_track(int argc, const char* const* argv);
+/// `perch synth --sequence I`: an approach sequence's frames, truth and motion (track.cpp).
+int run_synth_sequence(int argc, const char* const* argv);
 
 }  // namespace perch::tool

@@ -19,6 +19,7 @@
 #include "perch/distance.hpp"
 #include "perch/graph.hpp"
 #include "perch/label.hpp"
+#include "perch/limits.hpp"
 #include "perch/platform.hpp"
 #include "perch/policy.hpp"
 #include "perch/skeleton.hpp"
@@ -55,7 +56,7 @@ struct perch_options {
   limb_options limbs{};                ///< when windows run on through a junction
   obstacle_options obstacles{};        ///< which other limbs a window's clearance counts
   rank_options ranking{};              ///< top-k and the distance between ranked sites
-  std::size_t max_windows = std::size_t{1} << 18;  ///< capacity: windows over the whole tree
+  perch_limits limits{};  ///< what a mask may need at most (windows: 2^18 by default)
   /// Holes of the mask of at most this many input pixels (× downscale² in the analysed mask)
   /// are filled before the distance transform (`fill_small_holes`): a segmenter's pinholes
   /// and rasterisation pockets, which the skeleton would circle with a loop that cuts the
@@ -72,7 +73,7 @@ struct perch_options {
       if (!(std::isfinite(v) && v > 0)) return fail(errc::invalid_parameter, "perch_options");
     if (ranking.top_k == 0 || !(ranking.site_separation_mm >= 0))
       return fail(errc::invalid_parameter, "perch_options.ranking");
-    if (max_windows == 0) return fail(errc::invalid_parameter, "perch_options.max_windows");
+    PERCH_TRY(limits.validate());
     if (max_hole_px < 0) return fail(errc::invalid_parameter, "perch_options.max_hole_px");
     if (auto pruning_ok = pruning.validate(); !pruning_ok) return pruning_ok;
     if (pruning.diameter_min_mm != prune_options{}.diameter_min_mm ||
@@ -120,6 +121,9 @@ struct perch_result {
   std::span<const near_miss> near_misses{};       ///< per constraint
   std::uint32_t windows = 0;                      ///< windows measured
   std::uint32_t viable = 0;                       ///< windows that passed every constraint
+  /// The most windows held at once (`windows` and those dropped after measuring, see
+  /// `perch_options::max_hole_px`): what `perch_limits::windows` must allow.
+  std::uint32_t windows_held = 0;
   float mm_per_px = 0;  ///< global scale, per input-image pixel
   std::string_view scale{};     ///< the scale policy's name
   std::string_view platform{};  ///< the platform's name
@@ -235,12 +239,16 @@ struct pipeline_state {
 /// found once for the distance transform, the skeleton and its graph (listed while the box is
 /// copied, or by a scan of the reduced copy; a speckled mask with more runs than `max_runs` is
 /// scanned by each instead); the scale policy for it; and pinholes filled (their runs joined),
-/// so that no skeleton loop splits a branch around one.
+/// so that no skeleton loop splits a branch around one. A box or tree beyond
+/// `options.limits` is refused before it takes memory.
 template <BinaryView Mask, ScalePolicy Scale>
 [[nodiscard]] status prepare_stage(const Mask& mask, const Scale& scale, const perch_options& options,
                                    workspace& ws, perch_result& out,
                                    pipeline_state<Scale>& s) noexcept {
-  auto prepared = prepare_mask(mask, ws, options.downscale, runs_listing::list);
+  prepare_options preparing{.runs = runs_listing::list, .max_box_pixels = options.limits.box_pixels};
+  auto prepared = prepare_mask(mask, ws, options.downscale, preparing);
+  if (!prepared && prepared.error().code == errc::capacity_exceeded)  // the box's limit
+    return fail(errc::capacity_exceeded, "perch_options.limits.box_pixels", prepared.error().needed);
   PERCH_TRY(all_ok(prepared));
   out.mask = *prepared;
   s.local = prepared->pixels;
@@ -264,6 +272,10 @@ template <BinaryView Mask, ScalePolicy Scale>
     out.holes = *filled;
     out.mask.tree_pixels += filled->filled_pixels;
   }
+  // The skeletoniser's memory grows with the tree's pixels.
+  const auto tree = static_cast<std::size_t>(out.mask.tree_pixels);
+  if (options.limits.tree_pixels != 0 && tree > options.limits.tree_pixels)
+    return fail(errc::capacity_exceeded, "perch_options.limits.tree_pixels", tree);
   return {};
 }
 
@@ -302,10 +314,16 @@ template <Skeletoniser Skel, class Scale>
   return {};
 }
 
-/// Stage 4: the skeleton graph.
+/// Stage 4: the skeleton graph, once its pixels are known to be within the stated limit (its
+/// memory grows with them).
 template <class Scale>
-[[nodiscard]] status graph_stage(workspace& ws, perch_result& out,
+[[nodiscard]] status graph_stage(const perch_options& options, workspace& ws, perch_result& out,
                                  pipeline_state<Scale>& s) noexcept {
+  if (options.limits.skeleton_pixels != 0) {
+    const std::size_t pixels = count_set_pixels(s.skeleton, runs_of(s.listed, s.skeleton));
+    if (pixels > options.limits.skeleton_pixels)
+      return fail(errc::capacity_exceeded, "perch_options.limits.skeleton_pixels", pixels);
+  }
   const image_view<const std::uint8_t> skeleton(s.skeleton);
   const image_view<const std::uint32_t> dist(s.dist);
   auto built = s.listed != nullptr ? build_skeleton_graph(skeleton, dist, ws, {}, *s.listed)
@@ -401,7 +419,7 @@ template <class Scale>
 
 /// Stage 7: windows one drone width long along every limb's stretch, and their measures.
 /// Capacity: a stretch of n points is at most 1.5·n px long, so it has at most
-/// 1.5·n / stride + 1 windows; `options.max_windows` caps the total (capacity_exceeded).
+/// 1.5·n / stride + 1 windows; `options.limits.windows` caps the total (capacity_exceeded).
 template <BinaryView Mask, Platform P, class Scale>
 [[nodiscard]] status window_stage(const Mask& mask, const P& platform, const perch_options& options,
                                   workspace& ws, perch_result& out,
@@ -420,7 +438,7 @@ template <BinaryView Mask, Platform P, class Scale>
     longest = std::max(longest, stretch.count);
     bound += static_cast<std::size_t>(1.5f * static_cast<float>(stretch.count) / stride_px) + 1;
   }
-  auto windows = bounded_vector<window_measures>::make(ws, std::min(bound, options.max_windows));
+  auto windows = bounded_vector<window_measures>::make(ws, std::min(bound, options.limits.windows));
   auto window_scratch = ws.allocate<float>(window_scratch_floats(longest));
   auto diameters = ws.allocate<float>(longest);
   PERCH_TRY(all_ok(windows, window_scratch, diameters));
@@ -441,7 +459,12 @@ template <BinaryView Mask, Platform P, class Scale>
                       m.analysed_width, m.analysed_height,
                       limb.component < 0 || s.grounded[static_cast<std::size_t>(limb.component)] != 0};
     const std::size_t before = s.windows.size();
-    PERCH_TRY(measure_windows(g, *s.scaled, s.mm_per_px, *window_scratch, s.windows, geometry));
+    const status measured =
+        measure_windows(g, *s.scaled, s.mm_per_px, *window_scratch, s.windows, geometry);
+    if (!measured && measured.error().code == errc::capacity_exceeded)
+      return fail(errc::capacity_exceeded, "perch_options.limits.windows", measured.error().needed);
+    PERCH_TRY(measured);
+    out.windows_held = std::max(out.windows_held, static_cast<std::uint32_t>(s.windows.size()));
     std::size_t kept = before;
     for (std::size_t i = before; i < s.windows.size(); ++i) {
       window_measures window = s.windows[i];

@@ -26,49 +26,10 @@
 #include "perch/pipeline.hpp"
 #include "perch/platform.hpp"
 #include "perch/policy.hpp"
+#include "perch/size_query.hpp"
 #include "perch/skeleton.hpp"
 
 namespace perch {
-
-
-/// Bytes of workspace `find_perch` needs at most for a `width` × `height` mask (every pixel
-/// tree, the worst case); give a borrowed workspace this much and it never fails for lack of
-/// room. Real trees need far less: `workspace::high_water()` after a call says how much.
-/// 0 for sizes or options `find_perch` rejects before taking any workspace (negative or zero
-/// sizes, more than `max_image_pixels`, invalid options), and when the bound does not fit this
-/// target's `size_t` (large frames on 32-bit targets: no buffer there could hold it).
-[[nodiscard]] inline std::size_t find_perch_workspace_bytes(int width, int height,
-                                                           const perch_options& options = {}) noexcept {
-  if (width <= 0 || height <= 0 || std::int64_t{width} * height > max_image_pixels ||
-      !options.validate())
-    return 0;
-  const int w = scaled_extent(width, options.downscale) + 2;
-  const int h = scaled_extent(height, options.downscale) + 2;
-  const auto n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
-  // The bound is under 1 KiB per pixel plus per window: with 2 KiB of headroom for each, no
-  // term or sum wraps (a 32-bit target still sizes 1920 x 1080).
-  constexpr std::size_t most = std::numeric_limits<std::size_t>::max() / 2048;
-  if (n > most || options.max_windows > most) return 0;
-  std::size_t bytes = prepare_mask_workspace_bytes(width, height, options.downscale);
-  bytes += row_runs_workspace_bytes(h, detail::max_runs(w, h)) +
-           fill_holes_workspace_bytes(h, detail::max_runs(w, h));
-  bytes += workspace::footprint<std::uint32_t>(n) + workspace::footprint<std::uint8_t>(n);
-  bytes += distance_workspace_bytes(w, h);
-  bytes += skeleton_workspace_bytes(w, h);
-  bytes += skeleton_graph_workspace_bytes(w, h, n);
-  // Limbs: continuations, the limbs (at most one per edge, at most one edge per skeleton
-  // pixel) and their stretches.
-  bytes += workspace::footprint<std::int32_t>(2 * n) + trace_limbs_workspace_bytes(n, n) +
-           workspace::footprint<branch_stretch>(n);
-  // What surrounds the limbs: grounded components, obstacle discs, the clearance cache.
-  bytes += workspace::footprint<std::uint8_t>(n) + workspace::footprint<float>(n) +
-           limb_obstacles_workspace_bytes(n, n, w, h) +
-           workspace::footprint<limb_neighbourhood>(n) + 2 * workspace::footprint<float>(n);
-  bytes += workspace::footprint<window_measures>(options.max_windows);
-  bytes += workspace::footprint<float>(window_scratch_floats(n));
-  bytes += 2 * workspace::footprint<float>(n) + (std::size_t{64} << 10);
-  return bytes;
-}
 
 /// Finds where `platform` can perch on the tree of `mask` (non-zero = tree).
 ///
@@ -80,8 +41,8 @@ namespace perch {
 /// "No perch" and "no tree" are outcomes, not errors: the result then says why (rejections per
 /// constraint and the near misses).
 /// Errors: view errors of `mask` (null data, stride, size), invalid options, platform or scale
-/// (with the parameter named), `capacity_exceeded` when the tree has more windows than
-/// `options.max_windows`, `workspace_too_small` for a borrowed workspace (see
+/// (with the parameter named), `capacity_exceeded` when the mask needs more than
+/// `options.limits` (the limit named), `workspace_too_small` for a borrowed workspace (see
 /// `find_perch_workspace_bytes`), and a scale policy's own errors (e.g. `no_valid_depth`).
 /// Allocation: none once the workspace has grown to this mask's needs (a second call on a
 /// similar mask allocates nothing). Resets `ws`: results of a previous call on it are gone.
@@ -118,7 +79,7 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   out.timing.distance_ms = clock.lap();
   PERCH_TRY(detail::skeleton_stage(skeletoniser, ws, out, state));
   out.timing.skeleton_ms = clock.lap();
-  PERCH_TRY(detail::graph_stage(ws, out, state));
+  PERCH_TRY(detail::graph_stage(options, ws, out, state));
   out.timing.graph_ms = clock.lap();
   PERCH_TRY(detail::scale_and_prune_stage(platform, options, ws, out, state));
   out.timing.prune_ms = clock.lap();

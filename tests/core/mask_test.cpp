@@ -101,7 +101,7 @@ TEST_CASE("prepare_mask: the runs listed while copying are the copy's runs") {
     auto plain = perch::prepare_mask(mask, ws);
     REQUIRE(plain);
     const std::size_t copy_bytes = ws.used();
-    auto prepared = perch::prepare_mask(mask, ws, 1.0f, perch::runs_listing::list);
+    auto prepared = perch::prepare_mask(mask, ws, 1.0f, {.runs = perch::runs_listing::list});
     REQUIRE(prepared);
     const perch::row_runs& listed_runs = prepared->runs;
     CHECK(plain->runs.size() == 0);  // listed only when asked for
@@ -145,6 +145,24 @@ TEST_CASE("prepare_mask: the runs listed while copying are the copy's runs") {
   CHECK(too_many >= 20);
 }
 
+TEST_CASE("prepare_mask: a box larger than max_box_pixels is refused before it takes memory") {
+  perch::image<std::uint8_t> mask(40, 30);
+  for (int y = 5; y < 15; ++y)
+    for (int x = 10; x < 30; ++x) mask(x, y) = 1;
+  const std::size_t box = 22 * 12;  // 20 × 10 and the border
+  perch::workspace ws;
+  auto fits = perch::prepare_mask(mask.view(), ws, 1.0f, {.max_box_pixels = box});
+  REQUIRE(fits);
+  CHECK(static_cast<std::size_t>(fits->pixels.width() * fits->pixels.height()) == box);
+  ws.reset();
+  auto refused = perch::prepare_mask(mask.view(), ws, 1.0f, {.max_box_pixels = box - 1});
+  REQUIRE_FALSE(refused);
+  CHECK(refused.error().code == errc::capacity_exceeded);
+  CHECK(refused.error().detail == "prepare_options.max_box_pixels");
+  CHECK(refused.error().needed == box);
+  CHECK(ws.used() == 0);
+}
+
 TEST_CASE("prepare_mask: an empty mask is not an error") {
   perch::image<std::uint8_t> mask(5, 5);
   perch::workspace ws;
@@ -178,7 +196,7 @@ TEST_CASE("prepare_mask: area downscale keeps a strip's width in proportion") {
     const perch::point2f centre = prepared->to_input({10.0f, sum / static_cast<float>(n)});
     CHECK(centre.y() == doctest::Approx(11.5).epsilon(0.02));
     // Asked for, the runs of the reduced copy: one per row of the strip.
-    auto listed = perch::prepare_mask(mask.view(), ws, factor, perch::runs_listing::list);
+    auto listed = perch::prepare_mask(mask.view(), ws, factor, {.runs = perch::runs_listing::list});
     REQUIRE(listed);
     CHECK(listed->runs.describes(image_view<const std::uint8_t>(listed->pixels)));
     CHECK(listed->runs.size() == static_cast<std::size_t>(rows));

@@ -552,7 +552,7 @@ TEST_CASE("detect: corrupt PNGs exit 2 with the reader's reason; interlaced odd 
 
 TEST_CASE("every subcommand has --help (exit 0, usage on stdout)") {
   const fs::path dir = scratch("help");
-  for (const char* command : {"detect", "batch", "skeleton", "graph", "synth", "eval"}) {
+  for (const char* command : {"detect", "batch", "skeleton", "graph", "synth", "eval", "track"}) {
     const run_result r = run_perch({command, "--help"}, dir);
     CHECK(r.exit_code == 0);
     CHECK_MESSAGE(r.out.find(std::string("usage: perch ") + command) != std::string::npos, command);
@@ -560,6 +560,35 @@ TEST_CASE("every subcommand has --help (exit 0, usage on stdout)") {
   const run_result r = run_perch({"--help"}, dir);
   CHECK(r.exit_code == 0);
   CHECK(r.out.find("commands:") != std::string::npos);
+}
+
+TEST_CASE("synth --sequence, track and eval --sequences: frames, one JSON line per frame, scores") {
+  const fs::path dir = scratch("track");
+  const fs::path frames = dir / "frames";
+  const run_result s =
+      run_perch({"synth", "--sequence", "1", "--frames", "12", "--out", frames.string()}, dir);
+  REQUIRE_MESSAGE(s.exit_code == 0, s.err);
+  std::size_t pngs = 0;
+  for (const auto& entry : fs::directory_iterator(frames)) pngs += entry.path().extension() == ".png";
+  CHECK(pngs == 12);
+  REQUIRE(fs::exists(frames / "motion.csv"));
+  const run_result t =
+      run_perch({"track", frames.string(), "--motion", (frames / "motion.csv").string()}, dir);
+  REQUIRE_MESSAGE(t.exit_code == 0, t.err);
+  std::size_t lines = 0, start = 0;
+  for (std::size_t end; (end = t.out.find('\n', start)) != std::string::npos; start = end + 1, ++lines) {
+    const json_value line = parse(t.out.substr(start, end - start));
+    CHECK(member(line, "frame").number == static_cast<double>(lines));
+    CHECK(member(member(line, "motion"), "source").text == "given");
+    const std::string status = member(line, "status").text;
+    CHECK((status == "ok" || status == "no_perch"));
+  }
+  CHECK(lines == 12);
+  const run_result bad = run_perch({"track", (dir / "missing").string()}, dir);
+  CHECK(bad.exit_code == 2);
+  const run_result e = run_perch({"eval", "--sequences", "2", "--frames", "10", "--quiet"}, dir);
+  REQUIRE_MESSAGE(e.exit_code == 0, e.err);
+  CHECK(e.out.find("target on a feasible stretch") != std::string::npos);
 }
 
 TEST_CASE("batch: a corrupt PNG is reported and skipped, the batch goes on") {

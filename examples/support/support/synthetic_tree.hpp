@@ -1196,6 +1196,10 @@ struct claw_spec {
   float mass_kg = 1.5f;          ///< for the bending stress (paper eq. 4)
   float max_stress_mpa = 13.5f;  ///< modulus of rupture 27 MPa / safety factor 2
   float step_px = 1.0f;          ///< spacing of the window centres examined
+  /// The camera's roll, degrees, as `perch::attitude::roll_deg` (the true horizon runs this far
+  /// from the image's +x toward +y): rule 7's slopes and rule 9's lever are measured against
+  /// the true horizontal. 0: image rows are horizontal.
+  float roll_deg = 0.0f;
 };
 
 /// A stretch of a limb where the claw can perch: every window of one drone width whose centre
@@ -1308,7 +1312,8 @@ struct site_match {
 ///     the grasp out of range;
 ///  7. `slope`: at every point under the window the local tangent of the centreline (the
 ///     direction of the polyline segment holding it; at a vertex both adjacent segments) is at
-///     most `max_slope_deg` from horizontal (folded into [0°, 90°], image rows horizontal);
+///     most `max_slope_deg` from horizontal (folded into [0°, 90°], image rows horizontal unless
+///     `claw_spec::roll_deg` says otherwise);
 ///  8. `bend`: for every s in [s0, s1], the tangents at max(s − W/2, 0) and min(s + W/2,
 ///     length) differ by at most `max_bend_deg` (a tangent here is the chord over ±1 px of arc,
 ///     so a vertex of a finely sampled polyline is not a kink, a real kink is);
@@ -1397,7 +1402,7 @@ class perch_truth {
     out.clearance_mm *= mmpp_;  // px → mm (∞ stays ∞)
     out.curvature_per_mm = std::abs(L.curvature_per_px) / mmpp_;
     const float lever_mm =
-        std::abs(truth_point_at(L, centre_arc_px).x() - L.centreline.front().x()) * mmpp_;
+        std::abs((truth_point_at(L, centre_arc_px) - L.centreline.front()).dot(horizon())) * mmpp_;
     const float r_m = 0.5f * out.claw_diameter_mm / 1000.0f;
     out.stress_mpa = r_m > 0.0f ? 4.0f * spec_.mass_kg * 9.80665f * (lever_mm / 1000.0f) /
                                       (static_cast<float>(detail::pi) * r_m * r_m * r_m) / 1.0e6f
@@ -1661,7 +1666,8 @@ class perch_truth {
   }
 
   /// Rule 7 over arcs [a, b]: the steepest polyline segment overlapping it, deg in [0, 90].
-  [[nodiscard]] static float max_slope_deg(const limb_truth& L, float a, float b) {
+  [[nodiscard]] float max_slope_deg(const limb_truth& L, float a, float b) const {
+    const Eigen::Vector2f h = horizon();
     float t = 0.0f;
     std::size_t i = detail::segment_at(L, a, t);
     // At a vertex exactly at a, the segment before it counts too.
@@ -1670,11 +1676,20 @@ class perch_truth {
     for (; i + 1 < L.centreline.size() && L.arc_px[i] <= b; ++i) {
       const Eigen::Vector2f d = L.centreline[i + 1] - L.centreline[i];
       if (!(d.squaredNorm() > 0.0f)) continue;
-      worst = std::max(worst, static_cast<float>(std::atan2(std::abs(static_cast<double>(d.y())),
-                                                            std::abs(static_cast<double>(d.x()))) *
+      const double across = static_cast<double>(h.x() * d.y() - h.y() * d.x());
+      const double along = static_cast<double>(h.x() * d.x() + h.y() * d.y());
+      worst = std::max(worst, static_cast<float>(std::atan2(std::abs(across), std::abs(along)) *
                                                  (180.0 / detail::pi)));
     }
     return worst;
+  }
+
+  /// The true horizontal in the image (unit; (1, 0) without roll).
+  [[nodiscard]] Eigen::Vector2f horizon() const noexcept {
+    if (spec_.roll_deg == 0.0f) return {1.0f, 0.0f};
+    double sn = 0.0, cs = 1.0;
+    detail::sin_cos(static_cast<double>(spec_.roll_deg) * (detail::pi / 180.0), sn, cs);
+    return {static_cast<float>(cs), static_cast<float>(sn)};
   }
 
   /// The per-limb grids of rules 3, 4 and 8.

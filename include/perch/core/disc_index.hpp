@@ -46,7 +46,7 @@ class disc_index {
   disc_index() noexcept = default;
 
   /// Bytes of workspace `build` takes for `discs` discs over a `width` × `height` frame.
-  [[nodiscard]] static std::size_t workspace_bytes(std::size_t discs, int width, int height,
+  [[nodiscard]] static constexpr std::size_t workspace_bytes(std::size_t discs, int width, int height,
                                                    int cell_px = default_cell_px) noexcept {
     const std::size_t cells = cell_count(width, cell_px) * cell_count(height, cell_px);
     return workspace::footprint<owned_disc>(discs) + workspace::footprint<std::uint32_t>(cells + 1) +
@@ -135,7 +135,7 @@ class disc_index {
   static constexpr int default_cell_px = 16;
 
  private:
-  [[nodiscard]] static std::size_t cell_count(int extent, int cell_px) noexcept {
+  [[nodiscard]] static constexpr std::size_t cell_count(int extent, int cell_px) noexcept {
     return static_cast<std::size_t>(std::max(1, (std::max(extent, 1) + cell_px - 1) / cell_px));
   }
   [[nodiscard]] static int clamp_cell(float v, int count) noexcept {

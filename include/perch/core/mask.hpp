@@ -84,28 +84,40 @@ enum class runs_listing : std::uint8_t {
   list,  ///< at factor 1 while the input rows are copied, else by a scan of the reduced copy
 };
 
+/// What `prepare_mask` does besides the copy.
+struct prepare_options {
+  runs_listing runs = runs_listing::skip;  ///< whether to list the copy's row runs too
+  /// The largest copy to make, in pixels (its border included); 0: any.
+  std::size_t max_box_pixels = 0;
+};
+
 /// Size of the analysed image for an input dimension at `factor` (at least 1).
-[[nodiscard]] inline int scaled_extent(int input, float factor) noexcept {
+[[nodiscard]] constexpr int scaled_extent(int input, float factor) noexcept {
+  if (factor == 1.0f) return std::max(1, input);  // a constant expression at full size
   return std::max(1, static_cast<int>(std::ceil(static_cast<double>(input) * static_cast<double>(factor) - 1e-6)));
+}
+
+/// Bytes `prepare_mask` takes besides the analysed box when it reduces a box `box_width` input
+/// pixels wide by `factor` (0 at factor 1): the column sums, and the spans' weights, first
+/// columns and widths.
+[[nodiscard]] constexpr std::size_t reduction_workspace_bytes(int box_width, float factor) noexcept {
+  if (!(factor < 1.0f)) return 0;
+  const auto spans = static_cast<std::size_t>(scaled_extent(box_width, factor) + 3);
+  // The input columns under the analysed ones reach up to 1 / factor + 1 past the box.
+  const auto reach = static_cast<std::size_t>(std::ceil(1.0 / static_cast<double>(factor)));
+  const std::size_t columns = static_cast<std::size_t>(box_width) + 2 * reach + 3;
+  return workspace::footprint<float>(columns) + workspace::footprint<double>(columns + spans) +
+         workspace::footprint<std::int32_t>(spans) +
+         workspace::footprint<std::int32_t>(spans + 1) + workspace::footprint<double>(spans);
 }
 
 /// Bytes `prepare_mask` takes from the workspace for a tree box of `box_width` × `box_height`
 /// input pixels at `factor` (an upper bound when factor < 1).
-[[nodiscard]] inline std::size_t prepare_mask_workspace_bytes(int box_width, int box_height,
+[[nodiscard]] constexpr std::size_t prepare_mask_workspace_bytes(int box_width, int box_height,
                                                               float factor = 1.0f) noexcept {
   const auto w = static_cast<std::size_t>(scaled_extent(box_width, factor) + 3);
   const auto h = static_cast<std::size_t>(scaled_extent(box_height, factor) + 3);
-  std::size_t bytes = workspace::footprint<std::uint8_t>(w * h);
-  if (factor < 1.0f) {  // the column sums, and the spans' weights, first columns and widths
-    // The input columns under the analysed ones reach up to 1 / factor + 1 past the box.
-    const auto reach = static_cast<std::size_t>(std::ceil(1.0 / static_cast<double>(factor)));
-    const std::size_t columns = static_cast<std::size_t>(box_width) + 2 * reach + 3;
-    const std::size_t spans = w;
-    bytes += workspace::footprint<float>(columns) + workspace::footprint<double>(columns + spans) +
-             workspace::footprint<std::int32_t>(spans) +
-             workspace::footprint<std::int32_t>(spans + 1) + workspace::footprint<double>(spans);
-  }
-  return bytes;
+  return workspace::footprint<std::uint8_t>(w * h) + reduction_workspace_bytes(box_width, factor);
 }
 
 namespace detail {
@@ -264,16 +276,18 @@ template <BinaryView Mask>
 /// An empty mask gives a 2×2 all-background image and `tree_pixels == 0` (not an error).
 /// Errors: view errors of `mask`; `invalid_parameter` for a factor outside (0, 1];
 /// `workspace_too_small` / `out_of_memory` from the workspace.
-/// With `runs_listing::list`, the copy's row runs too (`prepared_mask::runs`: found on the input
-/// rows while they are copied at factor 1, by a scan of the reduced copy otherwise); a copy
-/// with more than `detail::max_runs` of them (speckle) gets none, and the memory of the list is
-/// given back. Their bytes are `row_runs_workspace_bytes(height, detail::max_runs(width,
-/// height))` of the copy, besides `prepare_mask_workspace_bytes`.
+/// `options.runs`: with `runs_listing::list`, the copy's row runs too (`prepared_mask::runs`:
+/// found on the input rows while they are copied at factor 1, by a scan of the reduced copy
+/// otherwise); a copy with more than `detail::max_runs` of them (speckle) gets none, and the
+/// memory of the list is given back. Their bytes are `row_runs_workspace_bytes(height,
+/// detail::max_runs(width, height))` of the copy, besides `prepare_mask_workspace_bytes`.
+/// `options.max_box_pixels`: a larger copy (border included) is refused with
+/// `capacity_exceeded` (`needed`: its pixels) before it takes memory.
 /// Complexity: O(box pixels), one pass (and one read of the reduced copy for its runs).
 template <BinaryView Mask>
 [[nodiscard]] result<prepared_mask> prepare_mask(const Mask& mask, workspace& ws,
                                                  float factor = 1.0f,
-                                                 runs_listing listing = runs_listing::skip) noexcept {
+                                                 const prepare_options& options = {}) noexcept {
   PERCH_TRY(validate_non_empty(mask));
   if (!(factor > 0.0f && factor <= 1.0f)) return fail(errc::invalid_parameter, "downscale factor");
   prepared_mask out;
@@ -288,8 +302,12 @@ template <BinaryView Mask>
     return out;
   }
   const pixel_box analysed = detail::analysed_box(box, factor, out);
+  const auto box_pixels = static_cast<std::size_t>(analysed.width() + 2) *
+                          static_cast<std::size_t>(analysed.height() + 2);
+  if (options.max_box_pixels != 0 && box_pixels > options.max_box_pixels)
+    return fail(errc::capacity_exceeded, "prepare_options.max_box_pixels", box_pixels);
   PERCH_TRY(detail::allocate_bordered(analysed, ws, out));
-  const bool list = listing == runs_listing::list;
+  const bool list = options.runs == runs_listing::list;
   if (factor == 1.0f && list) {
     auto count = detail::copy_listing_runs(mask, box, out, ws);
     PERCH_TRY(all_ok(count));

@@ -187,9 +187,11 @@ namespace detail {
 
 /// How many runs of tree `find_perch` lists for a `width` × `height` box (`row_runs`): one per
 /// 16 pixels and one per row; a tree with more (speckle) is scanned instead of listed.
+[[nodiscard]] constexpr std::size_t max_runs(std::size_t box_pixels, int height) noexcept {
+  return box_pixels / 16 + static_cast<std::size_t>(height);
+}
 [[nodiscard]] constexpr std::size_t max_runs(int width, int height) noexcept {
-  return static_cast<std::size_t>(width) * static_cast<std::size_t>(height) / 16 +
-         static_cast<std::size_t>(height);
+  return max_runs(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), height);
 }
 
 /// `runs` when they are the runs of `mask` (`row_runs::describes`), else nullptr: the kernels

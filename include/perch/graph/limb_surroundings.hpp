@@ -72,7 +72,7 @@ namespace detail {
 
 /// Bytes of workspace `find_limb_obstacles` takes at most (a disc per skeleton pixel, and one
 /// at each end of a limb for the limbs leaving it there).
-[[nodiscard]] inline std::size_t limb_obstacles_workspace_bytes(std::size_t limbs,
+[[nodiscard]] constexpr std::size_t limb_obstacles_workspace_bytes(std::size_t limbs,
                                                                 std::size_t skeleton_pixels,
                                                                 int width, int height) noexcept {
   const std::size_t discs = skeleton_pixels + 2 * limbs;

@@ -85,6 +85,23 @@ struct medial_axis {
     return workspace::footprint<std::uint8_t>(n) + (peel > clean_up ? peel : clean_up);
   }
 
+  /// Bytes a call takes at most on a mask of at most `foreground` pixels within a `width` ×
+  /// `height` image that has a background frame, thinned into a skeleton of stride `width`
+  /// with `dist2` laid out like it (as `find_perch` calls it: no working copy, distances read
+  /// where they are): the peeling's keys, queue and ring and, when it packs, its packed copy;
+  /// then the clean-up's queue.
+  [[nodiscard]] static constexpr std::size_t framed_workspace_bytes(int width, int height,
+                                                                    std::size_t foreground) noexcept {
+    if (width <= 0 || height <= 0) return 0;
+    const std::size_t cells = static_cast<std::size_t>(width) * static_cast<std::size_t>(height);
+    const std::size_t peel = workspace::footprint<std::uint32_t>(std::size_t{max_dist2(width, height)} + 2) +
+                             workspace::footprint<std::uint32_t>(foreground) +
+                             workspace::footprint<std::uint32_t>(foreground + 1) +
+                             workspace::footprint<std::uint16_t>(cells + packed_slack);
+    const std::size_t clean_up = workspace::footprint<std::uint32_t>(cells + 16);
+    return peel > clean_up ? peel : clean_up;
+  }
+
   [[nodiscard]] status operator()(image_view<const std::uint8_t> mask,
                                   image_view<const std::uint32_t> dist2,
                                   image_view<std::uint8_t> skeleton, workspace& ws) const noexcept {

@@ -1,0 +1,341 @@
+// SPDX-License-Identifier: BSL-1.0
+// perch track FRAMES_DIR: find_perch on every frame of a directory (in name order) and the
+// tracker across them, one JSON line per frame. perch synth --sequence: an approach sequence's
+// frames, their truth and the true camera motion, for perch track.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "perch/track.hpp"
+#include "support/json_writer.hpp"
+#include "support/sequence.hpp"
+#include "tool.hpp"
+#include "truth.hpp"
+
+namespace perch::tool {
+namespace {
+
+namespace st = perch::support;
+
+std::int64_t steady_ns() noexcept {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+/// Reads motion.csv: lines "frame,h00,h01,h02,h10,h11,h12,h20,h21,h22" (the motion from the
+/// frame before to `frame`; '#' lines and a header without digits skipped). Returns an error
+/// message (empty on success). A value that is not a number is kept as NaN: that frame's
+/// motion is bad input, which the tracker reports.
+std::string read_motion_csv(const std::filesystem::path& path, std::map<int, camera_motion>& out) {
+  std::ifstream in(path);
+  if (!in) return "cannot read " + path.string();
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.empty() || line[0] == '#' || line.find_first_of("0123456789") == std::string::npos ||
+        std::isalpha(static_cast<unsigned char>(line[0])))
+      continue;
+    std::vector<std::string> fields;
+    std::size_t start = 0;
+    for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
+      fields.push_back(line.substr(start, comma - start));
+    fields.push_back(line.substr(start));
+    if (fields.size() != 10)
+      return path.string() + ":" + std::to_string(line_number) + ": expected frame and 9 numbers";
+    camera_motion m;
+    for (std::size_t k = 0; k < 9; ++k) {
+      char* end = nullptr;
+      const float v = std::strtof(fields[k + 1].c_str(), &end);
+      m.h[k] = end != fields[k + 1].c_str() ? v : std::numeric_limits<float>::quiet_NaN();
+    }
+    out[std::atoi(fields[0].c_str())] = m;
+  }
+  return {};
+}
+
+/// The PNG frames of `dir`, in name order.
+std::vector<std::filesystem::path> frames_of(const std::filesystem::path& dir, std::string& error) {
+  std::vector<std::filesystem::path> frames;
+  std::error_code ec;
+  std::filesystem::directory_iterator it(dir, ec);
+  for (; !ec && it != std::filesystem::directory_iterator(); it.increment(ec))
+    if (it->path().extension() == ".png") frames.push_back(it->path());
+  if (ec) error = "cannot list " + dir.string() + ": " + ec.message();
+  std::sort(frames.begin(), frames.end());
+  return frames;
+}
+
+void write_track_fields(st::json_writer& json, const perch_track& t) {
+  json.key("id").value(static_cast<std::int64_t>(t.id))
+      .key("state").value(to_string(t.state))
+      .key("x").value(static_cast<double>(t.position_px.x()))
+      .key("y").value(static_cast<double>(t.position_px.y()));
+}
+
+struct frame_report {
+  int frame = 0;
+  std::string input;
+  std::string error;
+  const tracking_result* tracked = nullptr;
+  std::string_view motion_source = "identity";  ///< given, estimated or identity
+  camera_motion motion{};
+  float find_ms = 0, track_ms = 0;
+};
+
+std::string frame_json(const frame_report& f) {
+  st::json_writer json;
+  const tracking_result& r = *f.tracked;
+  json.begin_object()
+      .key("frame").value(static_cast<std::int64_t>(f.frame))
+      .key("input").value(f.input)
+      .key("status").value(to_string(r.status));
+  if (!f.error.empty()) json.key("error").value(f.error);
+  json.key("target");
+  if (r.target != nullptr) {
+    json.begin_object();
+    write_track_fields(json, *r.target);
+    json.key("heading_deg").value(static_cast<double>(r.target->heading_deg))
+        .key("slope_deg").value(static_cast<double>(r.target->slope_deg))
+        .key("diameter_mm").value(static_cast<double>(r.target->diameter_mm))
+        .key("penalty").value(static_cast<double>(r.target->penalty))
+        .end_object();
+  } else {
+    json.null();
+  }
+  json.key("change");
+  if (r.changed) {
+    json.begin_object()
+        .key("from").value(static_cast<std::int64_t>(r.change.from))
+        .key("to").value(static_cast<std::int64_t>(r.change.to))
+        .key("reason").value(to_string(r.change.reason));
+    if (!r.change.constraint.empty()) json.key("constraint").value(r.change.constraint);
+    json.end_object();
+  } else {
+    json.null();
+  }
+  json.key("tracks").begin_array();
+  for (const perch_track& t : r.tracks) {
+    json.begin_object();
+    write_track_fields(json, t);
+    json.key("age").value(static_cast<std::int64_t>(t.age))
+        .key("hits").value(static_cast<std::int64_t>(t.hits))
+        .key("misses").value(static_cast<std::int64_t>(t.misses))
+        .key("penalty").value(static_cast<double>(t.penalty))
+        .end_object();
+  }
+  json.end_array();
+  json.key("motion").begin_object().key("source").value(f.motion_source);
+  json.key("h").begin_array(st::json_layout::single_line);
+  for (const float v : f.motion.h) json.value(static_cast<double>(v));
+  json.end_array().end_object();
+  json.key("timing_ms").begin_object()
+      .key("find_perch").value(static_cast<double>(f.find_ms))
+      .key("track").value(static_cast<double>(f.track_ms))
+      .end_object();
+  json.end_object();
+  return std::move(json).take();
+}
+
+template <class Platform, class Scale>
+result<perch_result> find_with(const image<std::uint8_t>& mask, const run_config& config,
+                               const Platform& platform, const Scale& scale, workspace& ws) {
+  perch_options options;
+  options.downscale = config.downscale;
+  options.max_hole_px = config.max_hole_px;
+  options.camera = attitude{config.roll_deg};
+  options.ranking.top_k = config.top_k;
+  return find_perch(mask.view(), platform, scale, ws, options);
+}
+
+/// `find_perch` with the tool's options, then `tracker.update`.
+tracking_result analyse_and_track(const image<std::uint8_t>& mask, const run_config& config,
+                                  perch_tracker& tracker, motion_estimator& estimator, workspace& ws,
+                                  frame_report& report) {
+  return visit_platform(config.platform, [&](const auto& platform) {
+    const std::int64_t t0 = steady_ns();
+    auto found = config.scale.kind == scale_kind::fixed
+                     ? find_with(mask, config, platform, fixed_scale{config.scale.mm_per_px}, ws)
+                     : find_with(mask, config, platform, trunk_prior{config.scale.trunk_mm}, ws);
+    const std::int64_t t1 = steady_ns();
+    if (!found) report.error = describe(found.error());
+    if (found) {
+      // The estimator sees every analysed frame, so its previous keypoints are the last frame's.
+      const motion_estimate estimate = estimator.update(*found);
+      if (report.motion_source != "given" && estimate.estimated) {
+        report.motion = estimate.motion;
+        report.motion_source = "estimated";
+      }
+    } else {
+      estimator.reset();
+    }
+    const tracking_result r = tracker.update(found, report.motion);
+    const std::int64_t t2 = steady_ns();
+    report.find_ms = config.timing ? static_cast<float>(static_cast<double>(t1 - t0) * 1e-6) : 0;
+    report.track_ms = config.timing ? static_cast<float>(static_cast<double>(t2 - t1) * 1e-6) : 0;
+    return r;
+  });
+}
+
+}  // namespace
+
+int run_track(int argc, const char* const* argv) {
+  st::arg_parser args(
+      "perch track",
+      "Runs detect on every PNG mask of FRAMES_DIR (in name order) and follows the perch across\n"
+      "them with perch::perch_tracker: one JSON line per frame on stdout.");
+  args.add_positional("FRAMES_DIR", "directory of masks, one per frame");
+  args.add_option("motion", "motion.csv",
+                  "camera motion per frame: lines 'frame,h00,h01,h02,h10,h11,h12,h20,h21,h22', the\n"
+                  "homography from the previous frame's pixels to this frame's (perch synth\n"
+                  "--sequence writes one); frames not listed: estimated from the masks");
+  add_pipeline_options(args, depth_option::not_offered);
+  add_mask_options(args);
+  args.set_epilog(
+      "Each line: {\"frame\", \"input\", \"status\", \"target\": {\"id\", \"state\", \"x\", \"y\",\n"
+      "\"heading_deg\", \"slope_deg\", \"diameter_mm\", \"penalty\"} or null, \"change\": {\"from\", \"to\",\n"
+      "\"reason\"[, \"constraint\"]} or null, \"tracks\": [{\"id\", \"state\", \"x\", \"y\", \"age\", \"hits\",\n"
+      "\"misses\", \"penalty\"}], \"motion\": {\"source\": given|estimated|identity, \"h\"}, \"timing_ms\": {\"find_perch\", \"track\"}}.\n"
+      "status: ok, no_perch, no_tree, wrong_size, bad_motion, missing_frame (an unreadable mask or\n"
+      "a failed analysis, with \"error\"). Exit status: 0; 2 for bad arguments.\n"
+      "Example: perch synth --sequence 3 --out /tmp/seq && perch track /tmp/seq --motion\n"
+      "         /tmp/seq/motion.csv --mm-per-px 4");
+  int exit = exit_ok;
+  if (!parse_or_exit(args, argc, argv, "track", exit)) return exit;
+  run_config config;
+  mask_reading reading;
+  for (const std::string& e : {read_pipeline_options(args, depth_option::not_offered, config),
+                               read_mask_options(args, reading)})
+    if (!e.empty()) {
+      report_error("track", e);
+      return exit_usage;
+    }
+  const std::filesystem::path dir{std::string(*args.positional("FRAMES_DIR"))};
+  std::string error;
+  const std::vector<std::filesystem::path> frames = frames_of(dir, error);
+  if (!error.empty() || frames.empty()) {
+    report_error("track", error.empty() ? "no PNG frame in " + dir.string() : error);
+    return exit_usage;
+  }
+  std::map<int, camera_motion> motions;
+  if (args.has("motion"))
+    if (const std::string e = read_motion_csv(std::string(*args.value("motion")), motions); !e.empty()) {
+      report_error("track", e);
+      return exit_usage;
+    }
+  workspace ws;
+  perch_tracker tracker;
+  motion_estimator estimator;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    frame_report report;
+    report.frame = static_cast<int>(i);
+    report.input = frames[i].string();
+    const auto given = motions.find(report.frame);
+    if (given != motions.end()) {
+      report.motion_source = "given";
+      report.motion = given->second;
+    }
+    loaded_mask mask;
+    tracking_result r;
+    if (std::string e = load_mask(frames[i], reading, mask); !e.empty()) {
+      report.error = std::move(e);
+      estimator.reset();
+      r = tracker.skip(report.motion);
+    } else {
+      r = analyse_and_track(mask.pixels, config, tracker, estimator, ws, report);
+    }
+    report.tracked = &r;
+    if (const std::string e = write_text({}, frame_json(report) + "\n"); !e.empty()) {
+      report_error("track", e);
+      return exit_internal;
+    }
+  }
+  return exit_ok;
+}
+
+int run_synth_sequence(int argc, const char* const* argv) {
+  st::arg_parser args(
+      "perch synth --sequence",
+      "Writes approach sequence I (support/sequence.hpp: a population tree filmed from 3x to 1x\n"
+      "the distance with drift, roll, shake and segmentation noise): OUT/frame-NNNN.png (255 =\n"
+      "tree), OUT/frame-NNNN.truth.json (the tree as seen in that frame), OUT/motion.csv (the\n"
+      "true motion from each frame's predecessor, for perch track --motion) and OUT/camera.csv\n"
+      "(frame, roll_deg, mm_per_px, scale).");
+  args.add_option("sequence", "I", "sequence index (perch eval --sequences uses 0 … N-1)", "0");
+  args.add_option("frames", "F", "frames", "90");
+  args.add_option("out", "DIR", "output directory (created if missing)");
+  int exit = exit_ok;
+  if (!parse_or_exit(args, argc, argv, "synth", exit)) return exit;
+  const auto index = args.get_int("sequence", 0, 0, 1000000);
+  const auto frames = args.get_int("frames", 90, 1, 100000);
+  for (const std::string* e : {&index.error, &frames.error})
+    if (!e->empty()) {
+      report_error("synth", *e);
+      return exit_usage;
+    }
+  if (!args.has("out")) {
+    report_error("synth", "missing option --out DIR");
+    return exit_usage;
+  }
+  const std::filesystem::path dir(std::string(*args.value("out")));
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir, ec)) {
+    report_error("synth", "cannot create " + dir.string());
+    return exit_usage;
+  }
+  st::sequence_options options;
+  options.frames = frames.value;
+  const st::approach_sequence seq = st::evaluation_sequence(index.value, options);
+  std::string motion_csv = "# frame,h00,h01,h02,h10,h11,h12,h20,h21,h22: previous frame -> this\n";
+  std::string camera_csv = "frame,roll_deg,mm_per_px,scale\n";
+  char line[400];
+  for (int f = 0; f < seq.frames(); ++f) {
+    const st::sequence_frame frame = seq.frame(f);
+    char name[32];
+    std::snprintf(name, sizeof name, "frame-%04d", f);
+    image<std::uint8_t> png_mask(frame.mask.width(), frame.mask.height(), 0);
+    for (int y = 0; y < png_mask.height(); ++y)
+      for (int x = 0; x < png_mask.width(); ++x) png_mask(x, y) = frame.mask(x, y) != 0 ? 255 : 0;
+    const png::png_status written =
+        png::write_png(dir / (std::string(name) + ".png"), image_view<const std::uint8_t>(png_mask.view()));
+    if (!written) {
+      report_error("synth", written.error().message);
+      return exit_internal;
+    }
+    truth_file truth{"sequence", static_cast<std::uint32_t>(index.value), frame.mask.width(),
+                     frame.mask.height(), frame.tree.mm_per_px, frame.tree.limbs};
+    if (const std::string e = write_text(dir / (std::string(name) + ".truth.json"), truth_json(truth));
+        !e.empty()) {
+      report_error("synth", e);
+      return exit_internal;
+    }
+    motion_csv += std::to_string(f);
+    for (const float v : frame.motion.h) {
+      std::snprintf(line, sizeof line, ",%.9g", static_cast<double>(v));
+      motion_csv += line;
+    }
+    motion_csv += '\n';
+    std::snprintf(line, sizeof line, "%d,%.6g,%.6g,%.6g\n", f, static_cast<double>(frame.roll_deg),
+                  static_cast<double>(frame.tree.mm_per_px), static_cast<double>(frame.scale));
+    camera_csv += line;
+  }
+  for (const auto& [file, text] : {std::pair{"motion.csv", &motion_csv}, std::pair{"camera.csv", &camera_csv}})
+    if (const std::string e = write_text(dir / file, *text); !e.empty()) {
+      report_error("synth", e);
+      return exit_internal;
+    }
+  std::printf("sequence %d: %d frames in %s\n", index.value, seq.frames(), dir.string().c_str());
+  return exit_ok;
+}
+
+}  // namespace perch::tool

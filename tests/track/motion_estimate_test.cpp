@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: BSL-1.0
+// motion_estimator: the camera's motion between two frames of an approach sequence, from the
+// masks' skeleton junctions and ends, matches the true motion; the first frame and a frame with
+// no tree give the identity, not estimated; no allocation after warm-up; deterministic.
+#include "perch/track.hpp"
+
+#include <doctest/doctest.h>
+
+#include "allocation_counter.hpp"
+#include "perch/pli.hpp"
+#include "support/sequence.hpp"
+
+namespace st = perch::support;
+
+namespace {
+
+/// The largest distance between where `a` and `b` take points of the frame's middle half.
+float disagreement(const perch::camera_motion& a, const perch::camera_motion& b, int width,
+                   int height) {
+  float worst = 0;
+  for (float u = 0.25f; u <= 0.75f; u += 0.25f)
+    for (float v = 0.25f; v <= 0.75f; v += 0.25f) {
+      const perch::point2f p(u * static_cast<float>(width), v * static_cast<float>(height));
+      worst = std::max(worst, (a.apply(p) - b.apply(p)).norm());
+    }
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("the estimated motion between approach frames matches the true one") {
+  st::sequence_options o;
+  o.frames = 30;
+  o.jitter_px = 4.0f;  // shake enough that the identity is clearly wrong
+  const st::approach_sequence seq = st::evaluation_sequence(0, o);
+  perch::workspace ws;
+  perch::motion_estimator estimator;
+  int estimated = 0;
+  for (int f = 10; f < 16; ++f) {
+    const st::sequence_frame frame = seq.frame(f);
+    const auto found = perch::find_perch(frame.mask.view(), perch::tendon_claw{},
+                                         perch::fixed_scale{frame.tree.mm_per_px}, ws);
+    REQUIRE(found);
+    perch::test::allocation_scope scope;
+    const perch::motion_estimate m = estimator.update(*found);
+    CHECK(scope.count() == 0);
+    if (f == 10) {
+      CHECK(!m.estimated);
+      continue;
+    }
+    CHECK(m.keypoints >= 6);
+    if (!m.estimated) continue;
+    ++estimated;
+    const float error = disagreement(m.motion, frame.motion, frame.mask.width(), frame.mask.height());
+    const float identity_error =
+        disagreement(perch::camera_motion::identity(), frame.motion, frame.mask.width(), frame.mask.height());
+    INFO("frame " << f << " inliers " << m.inliers << " of " << m.keypoints << " identity error " << identity_error);
+    // Over the middle half of the frame, beyond the small far-away tree the keypoints cover.
+    CHECK(error < 4.0f);
+    CHECK(error < 0.25f * identity_error);
+  }
+  CHECK(estimated >= 4);
+}
+
+TEST_CASE("motion_estimator: no tree gives the identity; the same frames give the same motion") {
+  perch::image<std::uint8_t> empty(64, 48, 0);
+  perch::workspace ws;
+  perch::motion_estimator estimator;
+  const auto found = perch::find_perch(empty.view(), ws);
+  REQUIRE(found);
+  CHECK(!estimator.update(*found).estimated);
+  CHECK(!estimator.update(*found).estimated);
+
+  const st::approach_sequence seq = st::evaluation_sequence(2, st::sequence_options{});
+  const st::sequence_frame a = seq.frame(50), b = seq.frame(51);
+  perch::motion_estimator first, second;
+  for (perch::motion_estimator* e : {&first, &second}) {
+    for (const st::sequence_frame* f : {&a, &b}) {
+      const auto r = perch::find_perch(f->mask.view(), perch::tendon_claw{},
+                                       perch::fixed_scale{f->tree.mm_per_px}, ws);
+      REQUIRE(r);
+      (void)e->update(*r);
+    }
+  }
+  // Both estimators saw the same frames: their last estimates agree bit for bit.
+  const auto r = perch::find_perch(b.mask.view(), perch::tendon_claw{},
+                                   perch::fixed_scale{b.tree.mm_per_px}, ws);
+  REQUIRE(r);
+  const perch::motion_estimate x = first.update(*r), y = second.update(*r);
+  CHECK(x.motion.h == y.motion.h);
+  CHECK(x.inliers == y.inliers);
+  // The same frame twice: no motion.
+  if (x.estimated) CHECK(disagreement(x.motion, perch::camera_motion::identity(), 640, 480) < 0.5f);
+}
