@@ -243,6 +243,66 @@ TEST_CASE("find_perch: deterministic, and a strided view gives the same answer")
   }
 }
 
+namespace {
+
+// A user's skeletoniser that does not opt in to the row runs; and one that does
+// (`RowRunSkeletoniser`), saying whether the runs it was handed were those of its mask.
+struct medial_axis_scanning {
+  static constexpr std::string_view name = "medial_axis_scanning";
+  static constexpr std::size_t workspace_bytes(int width, int height) noexcept {
+    return perch::medial_axis::workspace_bytes(width, height);
+  }
+  perch::status operator()(perch::image_view<const std::uint8_t> mask,
+                           perch::image_view<const std::uint32_t> dist2,
+                           perch::image_view<std::uint8_t> skeleton,
+                           perch::workspace& ws) const noexcept {
+    return perch::medial_axis{}(mask, dist2, skeleton, ws);
+  }
+};
+struct medial_axis_reading_runs : medial_axis_scanning {
+  static constexpr std::string_view name = "medial_axis_reading_runs";
+  bool* handed_runs = nullptr;
+  using medial_axis_scanning::operator();
+  perch::status operator()(perch::image_view<const std::uint8_t> mask,
+                           perch::image_view<const std::uint32_t> dist2,
+                           perch::image_view<std::uint8_t> skeleton, perch::workspace& ws,
+                           const perch::row_runs& runs) const noexcept {
+    *handed_runs = runs.describes(mask) && runs.size() > 0;
+    return perch::medial_axis{}(mask, dist2, skeleton, ws, runs);
+  }
+};
+static_assert(perch::RowRunSkeletoniser<perch::medial_axis>);
+static_assert(perch::RowRunSkeletoniser<perch::zhang_suen>);
+static_assert(perch::RowRunSkeletoniser<perch::guo_hall>);
+static_assert(perch::RowRunSkeletoniser<medial_axis_reading_runs>);
+static_assert(perch::Skeletoniser<medial_axis_scanning>);
+static_assert(!perch::RowRunSkeletoniser<medial_axis_scanning>);
+
+}  // namespace
+
+TEST_CASE("find_perch: a user's skeletoniser opts in to the row runs like perch's own") {
+  const auto mask = t_tree(15.0f, 35.0f);
+  bool handed_runs = false;
+  perch::workspace ws1, ws2, ws3;
+  auto own = perch::find_perch(mask.view(), ws1);
+  auto reading = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::trunk_prior{},
+                                   medial_axis_reading_runs{{}, &handed_runs}, ws2);
+  auto scanning = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::trunk_prior{},
+                                    medial_axis_scanning{}, ws3);
+  REQUIRE(own);
+  REQUIRE(reading);
+  REQUIRE(scanning);
+  CHECK(handed_runs);
+  REQUIRE(own->mask.runs.describes(perch::image_view<const std::uint8_t>(own->mask.pixels)));
+  for (const auto* other : {&*reading, &*scanning}) {
+    REQUIRE(other->sites.size() == own->sites.size());
+    for (std::size_t i = 0; i < own->sites.size(); ++i) {
+      CHECK(other->sites[i].window.centre == own->sites[i].window.centre);
+      CHECK(other->sites[i].penalty == own->sites[i].penalty);
+    }
+  }
+}
+
 TEST_CASE("find_perch: listed runs and scanned rows give the kernels' distances and skeleton") {
   // find_perch lists the tree's runs once for the distance transform and the skeleton; a
   // speckled mask with more runs than it lists (a checkerboard half) makes both scan instead.

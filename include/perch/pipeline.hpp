@@ -220,7 +220,7 @@ template <class Scale>
 struct pipeline_state {
   image_view<std::uint8_t> local{};   ///< the analysed box (`perch_result::mask.pixels`)
   row_runs runs{};                    ///< its runs, when listed
-  mask_runs listed{};                 ///< the runs a built-in skeletoniser and the graph read
+  const row_runs* listed = nullptr;   ///< `runs` when the skeletoniser reads them (and the graph)
   std::optional<Scale> scaled{};      ///< the scale policy for the analysed image
   scale_context context{};
   image_view<std::uint32_t> dist{};
@@ -245,9 +245,10 @@ template <BinaryView Mask, ScalePolicy Scale>
 [[nodiscard]] status prepare_stage(const Mask& mask, const Scale& scale, const perch_options& options,
                                    workspace& ws, perch_result& out,
                                    pipeline_state<Scale>& s) noexcept {
-  runs_wanted wanted;
-  if (options.limits.box_pixels != 0) wanted.max_box_pixels = options.limits.box_pixels;
-  auto prepared = prepare_mask(mask, ws, options.downscale, &wanted);
+  prepare_options preparing{.runs = runs_listing::list, .max_box_pixels = options.limits.box_pixels};
+  auto prepared = prepare_mask(mask, ws, options.downscale, preparing);
+  if (!prepared && prepared.error().code == errc::capacity_exceeded)  // the box's limit
+    return fail(errc::capacity_exceeded, "perch_options.limits.box_pixels", prepared.error().needed);
   PERCH_TRY(all_ok(prepared));
   out.mask = *prepared;
   s.local = prepared->pixels;
@@ -259,13 +260,7 @@ template <BinaryView Mask, ScalePolicy Scale>
   s.scaled.emplace(*scaled);
   s.context = {prepared->analysed_width, prepared->analysed_height, 0, {}, prepared->offset, {}};
   PERCH_TRY(s.scaled->validate(s.context));
-  s.runs = wanted.runs;
-  const int w = s.local.width(), h = s.local.height();
-  if (options.downscale != 1.0f) {
-    auto found = find_row_runs(image_view<const std::uint8_t>(s.local), ws, max_runs(w, h));
-    if (!found && found.error().code != errc::capacity_exceeded) return unexpected{found.error()};
-    if (found) s.runs = *found;
-  }
+  s.runs = prepared->runs;
   // Holes are found from the runs: a speckled mask with too many runs to list keeps its holes.
   const double factor2 =
       static_cast<double>(options.downscale) * static_cast<double>(options.downscale);
@@ -297,7 +292,7 @@ template <class Scale>
   return {};
 }
 
-/// Stage 3: the skeleton. A built-in skeletoniser takes the runs, and its skeleton lies inside
+/// Stage 3: the skeleton. A `RowRunSkeletoniser` takes the runs, and its skeleton lies inside
 /// the mask, so the graph looks for skeleton pixels only inside the runs too.
 template <Skeletoniser Skel, class Scale>
 [[nodiscard]] status skeleton_stage(const Skel& skeletoniser, workspace& ws, perch_result& out,
@@ -308,13 +303,13 @@ template <Skeletoniser Skel, class Scale>
   s.skeleton = image_view<std::uint8_t>(pixels->data(), w, h);
   const image_view<const std::uint8_t> tree_mask(s.local);
   const image_view<const std::uint32_t> dist(s.dist);
-  constexpr bool built_in =
-      requires { skeletoniser(tree_mask, dist, s.skeleton, ws, mask_runs{}); };
-  s.listed = mask_runs{built_in ? &s.runs : nullptr};  // empty runs are ignored
-  if constexpr (built_in)
-    PERCH_TRY(skeletoniser(tree_mask, dist, s.skeleton, ws, s.listed));
-  else
+  if constexpr (RowRunSkeletoniser<Skel>) {
+    s.listed = &s.runs;  // empty runs are ignored
+    PERCH_TRY(skeletoniser(tree_mask, dist, s.skeleton, ws, s.runs));
+  } else {
+    s.listed = nullptr;
     PERCH_TRY(skeletoniser(tree_mask, dist, s.skeleton, ws));
+  }
   out.skeleton = s.skeleton;
   return {};
 }
@@ -329,8 +324,10 @@ template <class Scale>
     if (pixels > options.limits.skeleton_pixels)
       return fail(errc::capacity_exceeded, "perch_options.limits.skeleton_pixels", pixels);
   }
-  auto built = build_skeleton_graph(image_view<const std::uint8_t>(s.skeleton),
-                                    image_view<const std::uint32_t>(s.dist), ws, {}, s.listed);
+  const image_view<const std::uint8_t> skeleton(s.skeleton);
+  const image_view<const std::uint32_t> dist(s.dist);
+  auto built = s.listed != nullptr ? build_skeleton_graph(skeleton, dist, ws, {}, *s.listed)
+                                   : build_skeleton_graph(skeleton, dist, ws);
   PERCH_TRY(all_ok(built));
   out.graph = std::move(*built);
   return {};

@@ -83,7 +83,7 @@ TEST_CASE("prepare_mask: every tree pixel lands at local + offset") {
 }
 
 TEST_CASE("prepare_mask: the runs listed while copying are the copy's runs") {
-  // find_perch asks for the runs of the copy (detail::runs_wanted): they must describe the copy
+  // find_perch asks for the runs of the copy (runs_listing::list): they must describe the copy
   // and equal a scan of it; when the copy has more runs than detail::max_runs allows, none are
   // listed, the workspace keeps only the copy, and the copy is the same.
   std::mt19937 rng(11);
@@ -101,10 +101,11 @@ TEST_CASE("prepare_mask: the runs listed while copying are the copy's runs") {
     auto plain = perch::prepare_mask(mask, ws);
     REQUIRE(plain);
     const std::size_t copy_bytes = ws.used();
-    perch::detail::runs_wanted wanted;
-    auto prepared = perch::prepare_mask(mask, ws, 1.0f, &wanted);
+    auto prepared = perch::prepare_mask(mask, ws, 1.0f, {.runs = perch::runs_listing::list});
     REQUIRE(prepared);
-    const std::size_t wanted_bytes = ws.used() - copy_bytes;
+    const perch::row_runs& listed_runs = prepared->runs;
+    CHECK(plain->runs.size() == 0);  // listed only when asked for
+    const std::size_t listing_bytes = ws.used() - copy_bytes;
     const auto copy = image_view<const std::uint8_t>(prepared->pixels);
     REQUIRE(copy.width() == plain->pixels.width());
     REQUIRE(copy.height() == plain->pixels.height());
@@ -113,23 +114,23 @@ TEST_CASE("prepare_mask: the runs listed while copying are the copy's runs") {
     CHECK(prepared->tree_pixels == plain->tree_pixels);
     CHECK(prepared->offset == plain->offset);
     if (prepared->tree_pixels == 0) {  // an empty mask: nothing to list (find_perch stops)
-      CHECK(wanted.runs.size() == 0);
+      CHECK(listed_runs.size() == 0);
       continue;
     }
     const std::size_t limit = perch::detail::max_runs(copy.width(), copy.height());
     auto scanned = perch::find_row_runs(copy, ws, limit);
     if (!scanned) {
       REQUIRE(scanned.error().code == errc::capacity_exceeded);
-      CHECK(wanted.runs.size() == 0);
-      CHECK(!wanted.runs.describes(copy));
-      CHECK(wanted_bytes == copy_bytes);  // the list's memory was given back
+      CHECK(listed_runs.size() == 0);
+      CHECK(!listed_runs.describes(copy));
+      CHECK(listing_bytes == copy_bytes);  // the list's memory was given back
       ++too_many;
       continue;
     }
-    REQUIRE(wanted.runs.describes(copy));
-    REQUIRE(wanted.runs.size() == scanned->size());
+    REQUIRE(listed_runs.describes(copy));
+    REQUIRE(listed_runs.size() == scanned->size());
     for (int y = 0; y < copy.height(); ++y) {
-      const auto a = wanted.runs.row(y);
+      const auto a = listed_runs.row(y);
       const auto b = scanned->row(y);
       REQUIRE(a.size() == b.size());
       for (std::size_t k = 0; k < a.size(); ++k) {
@@ -142,6 +143,24 @@ TEST_CASE("prepare_mask: the runs listed while copying are the copy's runs") {
   MESSAGE(listed << " copies listed, " << too_many << " with too many runs");
   CHECK(listed >= 100);
   CHECK(too_many >= 20);
+}
+
+TEST_CASE("prepare_mask: a box larger than max_box_pixels is refused before it takes memory") {
+  perch::image<std::uint8_t> mask(40, 30);
+  for (int y = 5; y < 15; ++y)
+    for (int x = 10; x < 30; ++x) mask(x, y) = 1;
+  const std::size_t box = 22 * 12;  // 20 × 10 and the border
+  perch::workspace ws;
+  auto fits = perch::prepare_mask(mask.view(), ws, 1.0f, {.max_box_pixels = box});
+  REQUIRE(fits);
+  CHECK(static_cast<std::size_t>(fits->pixels.width() * fits->pixels.height()) == box);
+  ws.reset();
+  auto refused = perch::prepare_mask(mask.view(), ws, 1.0f, {.max_box_pixels = box - 1});
+  REQUIRE_FALSE(refused);
+  CHECK(refused.error().code == errc::capacity_exceeded);
+  CHECK(refused.error().detail == "prepare_options.max_box_pixels");
+  CHECK(refused.error().needed == box);
+  CHECK(ws.used() == 0);
 }
 
 TEST_CASE("prepare_mask: an empty mask is not an error") {
@@ -176,6 +195,11 @@ TEST_CASE("prepare_mask: area downscale keeps a strip's width in proportion") {
     REQUIRE(n > 0);
     const perch::point2f centre = prepared->to_input({10.0f, sum / static_cast<float>(n)});
     CHECK(centre.y() == doctest::Approx(11.5).epsilon(0.02));
+    // Asked for, the runs of the reduced copy: one per row of the strip.
+    auto listed = perch::prepare_mask(mask.view(), ws, factor, {.runs = perch::runs_listing::list});
+    REQUIRE(listed);
+    CHECK(listed->runs.describes(image_view<const std::uint8_t>(listed->pixels)));
+    CHECK(listed->runs.size() == static_cast<std::size_t>(rows));
   }
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -410,6 +411,12 @@ TEST_CASE("distance_transform_sq: bad input is a status") {
         "distance_options.spacing_x");
   CHECK(perch::distance_transform(m.view(), f.view(), ws, {.spacing_y = NAN}).error().code ==
         errc::invalid_parameter);
+  // "Finite and positive": every finite spacing is taken, the infinite one is not.
+  constexpr float largest = std::numeric_limits<float>::max();
+  CHECK(perch::distance_options{.spacing_x = largest, .spacing_y = largest}.validate());
+  CHECK(perch::distance_options{.spacing_x = 3.2e38f}.validate());
+  CHECK(perch::distance_transform(m.view(), f.view(), ws, {.spacing_y = INFINITY}).error().detail ==
+        "distance_options.spacing_y");
 }
 
 TEST_CASE("distance_transform_sq: workspace size is exact and the call allocates nothing") {

@@ -589,7 +589,7 @@ TEST_CASE("skeleton graph: scanning only the runs of a mask that contains the sk
     REQUIRE(runs);
     auto scanned = perch::build_skeleton_graph(cview(skeleton), cview(dist2), ws);
     auto listed = perch::build_skeleton_graph(cview(skeleton), cview(dist2), ws, {},
-                                              perch::detail::mask_runs{&*runs});
+                                              *runs);
     REQUIRE(scanned);
     REQUIRE(listed);
     CHECK(listed->skeleton_pixels() == scanned->skeleton_pixels());
@@ -600,7 +600,7 @@ TEST_CASE("skeleton graph: scanning only the runs of a mask that contains the sk
     auto other_runs = perch::find_row_runs(cview(other), ws, static_cast<std::size_t>(w * h));
     REQUIRE(other_runs);
     auto ignored = perch::build_skeleton_graph(cview(skeleton), cview(dist2), ws, {},
-                                               perch::detail::mask_runs{&*other_runs});
+                                               *other_runs);
     REQUIRE(ignored);
     CHECK(fingerprint(*ignored) == fingerprint(*scanned));
   }

@@ -326,7 +326,7 @@ TEST_CASE("medial_axis: the packed peeling gives the skeletons of the byte image
           perch::find_row_runs(mv, ws, static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
       REQUIRE(runs);
       REQUIRE(perch::medial_axis{.packed_from = 0}(mv, d2.view(), listed.view(), ws,
-                                                   perch::detail::mask_runs{&*runs}));
+                                                   *runs));
       ws.reset();
     }
     INFO("round " << round << ", mask:\n" << to_ascii(m.view()));

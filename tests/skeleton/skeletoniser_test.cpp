@@ -351,7 +351,7 @@ TEST_CASE("skeletonisers: the mask's listed runs give the same skeleton as scann
     auto both = [&](const auto& method) {
       image<std::uint8_t> scanned(w, h, 9), listed(w, h, 9);
       REQUIRE(method(mv, d2.view(), scanned.view(), ws));
-      REQUIRE(method(mv, d2.view(), listed.view(), ws, perch::detail::mask_runs{&*runs}));
+      REQUIRE(method(mv, d2.view(), listed.view(), ws, *runs));
       return same(scanned, listed);
     };
     CHECK(both(perch::medial_axis{}));
@@ -361,7 +361,7 @@ TEST_CASE("skeletonisers: the mask's listed runs give the same skeleton as scann
     // The one-pixel clean-up scans only the runs for 2×2 blocks: count the masks where it had
     // blocks to remove, so the comparison above covers it.
     image<std::uint8_t> thin(w, h), faithful(w, h);
-    REQUIRE(perch::medial_axis{}(mv, d2.view(), thin.view(), ws, perch::detail::mask_runs{&*runs}));
+    REQUIRE(perch::medial_axis{}(mv, d2.view(), thin.view(), ws, *runs));
     REQUIRE(perch::medial_axis{.thinness = thinness::faithful}(mv, d2.view(), faithful.view(), ws));
     cleaned += same(thin, faithful) ? 0 : 1;
   }

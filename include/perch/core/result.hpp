@@ -178,7 +178,7 @@ using status = result<void>;
 template <class... R>
 [[nodiscard]] constexpr status all_ok(const R&... results) noexcept {
   status out{};
-  ((out.has_value() && !results.has_value() ? (out = unexpected{results.error()}, true) : true),
+  ((out.has_value() && !results.has_value() ? void(out = unexpected{results.error()}) : void()),
    ...);
   return out;
 }

@@ -194,28 +194,11 @@ namespace detail {
   return max_runs(static_cast<std::size_t>(width) * static_cast<std::size_t>(height), height);
 }
 
-/// `find_perch` asking `prepare_mask` for the runs of the mask it makes, found on the input
-/// rows while they are copied (instead of by another scan of the copy): `runs` is set when at
-/// most `max_runs` of the copy's size fit, and left empty otherwise (the kernels then scan).
-/// And the largest box its limits allow (`perch_limits::box_pixels`), refused before the box
-/// takes memory.
-struct runs_wanted {
-  row_runs runs{};
-  std::size_t max_box_pixels = static_cast<std::size_t>(-1);
-};
-
-/// `find_perch` handing a skeletoniser the runs of its mask. Internal: the skeletonisers trust
-/// runs that describe the mask to list all of its foreground (stale runs, of a mask changed
-/// since, would leave pixels without a queue key), so only the pipeline, which finds them on
-/// its own copy of the mask, passes them.
-struct mask_runs {
-  const row_runs* runs = nullptr;
-};
-
-/// The runs of `listed` when they describe `mask`, else nullptr (scan).
+/// `runs` when they are the runs of `mask` (`row_runs::describes`), else nullptr: the kernels
+/// that take runs scan the image themselves for any other.
 template <ImageView V>
-[[nodiscard]] const row_runs* runs_of(mask_runs listed, const V& mask) noexcept {
-  return listed.runs != nullptr && listed.runs->describes(mask) ? listed.runs : nullptr;
+[[nodiscard]] const row_runs* runs_of(const row_runs* runs, const V& mask) noexcept {
+  return runs != nullptr && runs->describes(mask) ? runs : nullptr;
 }
 
 /// Calls `visit(a, b)` for each run [a, b) of foreground of row `y` of an image whose row starts

@@ -10,6 +10,7 @@
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 
 #include "perch/core/geometry.hpp"
@@ -30,9 +31,12 @@ struct distance_options {
 
   /// `invalid_parameter` (naming the field) unless both spacings are finite and positive.
   [[nodiscard]] constexpr status validate() const noexcept {
-    if (!(spacing_x > 0.0f) || !(spacing_x <= 3.0e38f))
+    // (`std::isfinite` is not constexpr: the largest float bounds the finite ones, and a NaN
+    // fails both comparisons.)
+    constexpr float largest = std::numeric_limits<float>::max();
+    if (!(spacing_x > 0.0f && spacing_x <= largest))
       return fail(errc::invalid_parameter, "distance_options.spacing_x");
-    if (!(spacing_y > 0.0f) || !(spacing_y <= 3.0e38f))
+    if (!(spacing_y > 0.0f && spacing_y <= largest))
       return fail(errc::invalid_parameter, "distance_options.spacing_y");
     return {};
   }
@@ -54,15 +58,26 @@ enum class edt_output : std::uint8_t { squared, nearest, real };
 /// Whether background pixels of the output are written (0, and themselves as nearest) or left.
 enum class edt_background : std::uint8_t { write, leave };
 
-/// The transform itself; `Out` is the output kind, `near` is used for `edt_output::nearest`.
-/// `runs`: the runs of `mask` (see `row_runs`), or nullptr to scan the rows for them.
-template <edt_output Out, edt_background Background, class Mask, class Dist, class Near>
-[[nodiscard]] status distance_transform_impl(const Mask& mask, const Dist& dist, const Near& near,
-                                             workspace& ws, const distance_options& options,
-                                             const row_runs* runs = nullptr) noexcept {
-  using D = typename Dist::value_type;
-  const int w = mask.width();
-  const int h = mask.height();
+/// The row buffers of `distance_transform_impl`, one entry per column plus the two outside
+/// (see `distance_workspace_bytes`).
+struct edt_rows {
+  std::uint32_t* down;      ///< per column: the run length of foreground above / below
+  std::uint32_t* g_int;     ///< a run's column distances (integer outputs)
+  float* g_real;            ///< a run's column distances (`edt_output::real`)
+  std::int32_t* s;          ///< the lower envelope's parabolas ...
+  std::int32_t* t;          ///< ... and where each starts
+  std::int32_t* site;       ///< per pixel of a run: its nearest site
+  std::int32_t* near_row;   ///< per site: the row of its nearest background pixel
+  double* inverse_twice;    ///< 1 / (2 q), filled as far as needed (`fill_inverse_twice`)
+  std::int16_t* window;     ///< `nearest_sites_window`'s scratch
+  std::size_t inverses_ready = 0;  ///< filled as far as the longest enveloped run so far needs
+};
+
+/// `edt_rows` for a `w` × `h` mask from `ws`. Errors: `workspace_too_small` with the bytes a
+/// borrowed workspace needs (what is used plus `distance_workspace_bytes`), else
+/// `out_of_memory`; `ws` is then as it was.
+template <edt_output Out>
+[[nodiscard]] result<edt_rows> allocate_edt_rows(workspace& ws, int w, int h) noexcept {
   const auto n = static_cast<std::size_t>(w) + 2;
   const auto entry = ws.mark();
   const std::size_t used_at_entry = ws.used();
@@ -75,36 +90,34 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
   auto near_row = ws.allocate<std::int32_t>(n);
   auto inverse_twice = ws.allocate<double>(n);
   auto window = ws.allocate<std::int16_t>(detail::window_scratch(n));
-  if (!down || !g_int || !g_real || !s || !t || !site || !near_row || !inverse_twice || !window) {
+  if (!all_ok(down, g_int, g_real, s, t, site, near_row, inverse_twice, window)) {
     ws.rewind(entry);
-    const bool short_of_room =
-        (!down && down.error().code == errc::workspace_too_small) ||
-        (!g_int && g_int.error().code == errc::workspace_too_small) ||
-        (!g_real && g_real.error().code == errc::workspace_too_small) ||
-        (!s && s.error().code == errc::workspace_too_small) ||
-        (!t && t.error().code == errc::workspace_too_small) ||
-        (!site && site.error().code == errc::workspace_too_small) ||
-        (!near_row && near_row.error().code == errc::workspace_too_small) ||
-        (!inverse_twice && inverse_twice.error().code == errc::workspace_too_small) ||
-        (!window && window.error().code == errc::workspace_too_small);
-    if (short_of_room)
+    auto short_of_room = [](const auto& r) {
+      return !r && r.error().code == errc::workspace_too_small;
+    };
+    if (short_of_room(down) || short_of_room(g_int) || short_of_room(g_real) ||
+        short_of_room(s) || short_of_room(t) || short_of_room(site) || short_of_room(near_row) ||
+        short_of_room(inverse_twice) || short_of_room(window))
       return fail(errc::workspace_too_small, "distance_transform",
                   used_at_entry + distance_workspace_bytes(w, h));
     return fail(errc::out_of_memory, "distance_transform");
   }
-  std::size_t inverses_ready = 0;  // filled as far as the longest enveloped run so far needs
-  std::uint32_t* dn = down->data();
-  std::int32_t* nr = near_row->data();
+  return edt_rows{down->data(), g_int->data(),    g_real->data(),         s->data(),
+                  t->data(),    site->data(),     near_row->data(),       inverse_twice->data(),
+                  window->data()};
+}
 
-  // Rows are fetched ahead only on large images (see `fetch_ahead_from`).
-  const bool fetch_ahead =
-      static_cast<std::size_t>(w) * static_cast<std::size_t>(h) >= fetch_ahead_from;
-
-  // Phase 1, downwards, on foreground pixels only: the run length of foreground above and
-  // including each pixel, kept per column in `dn` (valid where the pixel above is foreground:
-  // it was set on the row above) and stored in the output (rows outside the image are
-  // background).
+/// Phase 1 downwards, on foreground pixels only: the run length of foreground above and
+/// including each pixel, kept per column in `dn` (valid where the pixel above is foreground:
+/// it was set on the row above) and stored in the output (rows outside the image are
+/// background).
+template <class Mask, class Dist>
+void column_runs_down(const Mask& mask, const Dist& dist, const row_runs* runs, std::uint32_t* dn,
+                      bool fetch_ahead) noexcept {
+  using D = typename Dist::value_type;
   using M = std::remove_cvref_t<decltype(*row_pointer(mask, 0))>;
+  const int w = mask.width();
+  const int h = mask.height();
   const M* above = nullptr;
   for (int y = 0; y < h; ++y) {
     const M* m = row_pointer(mask, y);
@@ -124,6 +137,94 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
     });
     above = m;
   }
+}
+
+/// Phase 2 of the real-valued transform on the run [a, a + sites − 2) of row `d`: the column
+/// distances (scaled by `sy`) enveloped along the row (spacing² `sx2`).
+inline void real_distances_of_run(float* d, int a, int sites, edt_rows& rows, double sx2,
+                                  float sy) noexcept {
+  float* g = rows.g_real;
+  const std::uint32_t* dn = rows.down;
+  g[0] = 0.0f;
+  g[sites - 1] = 0.0f;
+  for (int u = 1; u + 1 < sites; ++u) {
+    const int c = a - 1 + u;
+    const auto up = static_cast<std::uint32_t>(d[c]);
+    g[u] = sy * static_cast<float>(up < dn[c] ? up : dn[c]);
+  }
+  detail::envelope_real(g, sites, sx2, rows.s, rows.t, rows.site);
+  for (int u = 1; u + 1 < sites; ++u) {
+    const std::int32_t i = rows.site[u];
+    const double dx = static_cast<double>(u - i);
+    const double gi = static_cast<double>(g[i]);
+    d[a - 1 + u] = static_cast<float>(std::sqrt(sx2 * dx * dx + gi * gi));
+  }
+}
+
+/// Phase 2 of the squared transform on the run [a, a + sites − 2) of row `y` (output `d`;
+/// with `edt_output::nearest`, the nearest background pixels into `near_row_out`): a run whose
+/// sites all lie near takes the small window, any other the lower envelope.
+template <edt_output Out>
+void squared_distances_of_run(std::uint32_t* d, pixel* near_row_out, int y, int a, int sites,
+                              edt_rows& rows) noexcept {
+  std::uint32_t* g = rows.g_int;
+  const std::uint32_t* dn = rows.down;
+  std::int32_t* nr = rows.near_row;
+  g[0] = 0;
+  g[sites - 1] = 0;
+  std::uint32_t reach = 0;  // see nearest_sites_window
+  for (int u = 1; u + 1 < sites; ++u) {
+    const int c = a - 1 + u;
+    const std::uint32_t up = d[c];
+    const bool from_above = up <= dn[c];
+    g[u] = from_above ? up : dn[c];
+    if constexpr (Out == edt_output::nearest)
+      nr[u] = from_above ? y - static_cast<std::int32_t>(up) : y + static_cast<std::int32_t>(dn[c]);
+    const auto end_near = static_cast<std::uint32_t>(u < sites - 1 - u ? u : sites - 1 - u);
+    const std::uint32_t r = g[u] < end_near ? g[u] : end_near;
+    reach = r > reach ? r : reach;
+  }
+  if (Out == edt_output::squared && reach <= static_cast<std::uint32_t>(detail::window_reach_max)) {
+    detail::nearest_sites_window(g, sites, static_cast<int>(reach), rows.window, d + (a - 1));
+    return;
+  }
+  const auto needed = static_cast<std::size_t>(sites);
+  if (needed > rows.inverses_ready) {
+    detail::fill_inverse_twice(rows.inverse_twice, rows.inverses_ready, needed);
+    rows.inverses_ready = needed;
+  }
+  detail::envelope_sq(g, sites, rows.s, rows.t, rows.site, rows.inverse_twice);
+  for (int u = 1; u + 1 < sites; ++u) {
+    const std::int32_t i = rows.site[u];
+    const auto dx = static_cast<std::uint32_t>(u > i ? u - i : i - u);
+    d[a - 1 + u] = dx * dx + g[i] * g[i];
+    if constexpr (Out == edt_output::nearest) {
+      const bool edge = i == 0 || i == sites - 1;
+      near_row_out[a - 1 + u] = pixel{a - 1 + i, edge ? y : nr[i]};
+    }
+  }
+}
+
+/// The transform itself; `Out` is the output kind, `near` is used for `edt_output::nearest`.
+/// `runs`: the runs of `mask` (see `row_runs`), or nullptr to scan the rows for them.
+template <edt_output Out, edt_background Background, class Mask, class Dist, class Near>
+[[nodiscard]] status distance_transform_impl(const Mask& mask, const Dist& dist, const Near& near,
+                                             workspace& ws, const distance_options& options,
+                                             const row_runs* runs = nullptr) noexcept {
+  using D = typename Dist::value_type;
+  using M = std::remove_cvref_t<decltype(*row_pointer(mask, 0))>;
+  const int w = mask.width();
+  const int h = mask.height();
+  const auto entry = ws.mark();
+  auto allocated = allocate_edt_rows<Out>(ws, w, h);
+  PERCH_TRY(all_ok(allocated));
+  edt_rows& rows = *allocated;
+  std::uint32_t* dn = rows.down;
+
+  // Rows are fetched ahead only on large images (see `fetch_ahead_from`).
+  const bool fetch_ahead =
+      static_cast<std::size_t>(w) * static_cast<std::size_t>(h) >= fetch_ahead_from;
+  column_runs_down(mask, dist, runs, dn, fetch_ahead);
 
   // Phase 1 upwards (the run length below, in `dn` again), then phase 2 on the row: each run
   // of foreground [a, b] sees only the sites a−1 … b+1, because the background at a−1 and b+1
@@ -157,60 +258,11 @@ template <edt_output Out, edt_background Background, class Mask, class Dist, cla
         dn[c] = below != nullptr && static_cast<bool>(below[c]) ? dn[c] + 1 : 1;
       const int sites = b - a + 3;  // a−1 … b+1
       if constexpr (Out == edt_output::real) {
-        float* g = g_real->data();
-        g[0] = 0.0f;
-        g[sites - 1] = 0.0f;
-        for (int u = 1; u + 1 < sites; ++u) {
-          const int c = a - 1 + u;
-          const auto up = static_cast<std::uint32_t>(d[c]);
-          g[u] = sy * static_cast<float>(up < dn[c] ? up : dn[c]);
-        }
-        detail::envelope_real(g, sites, sx2, s->data(), t->data(), site->data());
-        for (int u = 1; u + 1 < sites; ++u) {
-          const std::int32_t i = (*site)[static_cast<std::size_t>(u)];
-          const double dx = static_cast<double>(u - i);
-          const double gi = static_cast<double>(g[i]);
-          d[a - 1 + u] = static_cast<float>(std::sqrt(sx2 * dx * dx + gi * gi));
-        }
+        real_distances_of_run(d, a, sites, rows, sx2, sy);
       } else {
-        std::uint32_t* g = g_int->data();
-        g[0] = 0;
-        g[sites - 1] = 0;
-        std::uint32_t reach = 0;  // see nearest_sites_window
-        for (int u = 1; u + 1 < sites; ++u) {
-          const int c = a - 1 + u;
-          const std::uint32_t up = d[c];
-          const bool from_above = up <= dn[c];
-          g[u] = from_above ? up : dn[c];
-          if constexpr (Out == edt_output::nearest)
-            nr[u] = from_above ? y - static_cast<std::int32_t>(up)
-                               : y + static_cast<std::int32_t>(dn[c]);
-          const auto end_near = static_cast<std::uint32_t>(u < sites - 1 - u ? u : sites - 1 - u);
-          const std::uint32_t r = g[u] < end_near ? g[u] : end_near;
-          reach = r > reach ? r : reach;
-        }
-        if (Out == edt_output::squared &&
-            reach <= static_cast<std::uint32_t>(detail::window_reach_max)) {
-          detail::nearest_sites_window(g, sites, static_cast<int>(reach), window->data(),
-                                       d + (a - 1));
-        } else {
-          const auto needed = static_cast<std::size_t>(sites);
-          if (needed > inverses_ready) {
-            detail::fill_inverse_twice(inverse_twice->data(), inverses_ready, needed);
-            inverses_ready = needed;
-          }
-          detail::envelope_sq(g, sites, s->data(), t->data(), site->data(),
-                              inverse_twice->data());
-          for (int u = 1; u + 1 < sites; ++u) {
-            const std::int32_t i = (*site)[static_cast<std::size_t>(u)];
-            const auto dx = static_cast<std::uint32_t>(u > i ? u - i : i - u);
-            d[a - 1 + u] = dx * dx + g[i] * g[i];
-            if constexpr (Out == edt_output::nearest) {
-              const bool edge = i == 0 || i == sites - 1;
-              row_pointer(near, y)[a - 1 + u] = pixel{a - 1 + i, edge ? y : nr[i]};
-            }
-          }
-        }
+        pixel* near_out = nullptr;
+        if constexpr (Out == edt_output::nearest) near_out = row_pointer(near, y);
+        squared_distances_of_run<Out>(d, near_out, y, a, sites, rows);
       }
       x = end;
     });

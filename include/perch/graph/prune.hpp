@@ -113,6 +113,237 @@ inline void apply_weights(skeleton_graph::topology_type& g, float alpha) noexcep
   });
 }
 
+/// Joins the two branches at a degree-2 node (`adjacency_list::merge_node`'s join): the new
+/// branch is a rope over both polylines with the node's attachment pixel(s) between them, its
+/// aggregates the sums of theirs.
+struct branch_joiner {
+  std::span<rope_node> ropes;
+  std::size_t rope_count = 0;
+  float mm_per_px = 1.0f;
+  const prune_options* options = nullptr;
+
+  void add_point(skeleton_edge_data& d, float r) const noexcept {
+    ++d.pixel_total;
+    d.diameter_sum_px += diameter_from_radius(r);
+    d.in_range += in_spec_range(r, mm_per_px, *options) ? 1u : 0u;
+  }
+
+  skeleton_edge_data operator()(const edge_part<skeleton_edge_data>& first,
+                                const skeleton_node_data&,
+                                const edge_part<skeleton_edge_data>& second) noexcept {
+    const skeleton_edge_data& a = first.data;
+    const skeleton_edge_data& b = second.data;
+    const branch_anchor a1 = first.direction == traversal::forward ? a.to_anchor : a.from_anchor;
+    const branch_anchor a2 = second.direction == traversal::forward ? b.from_anchor : b.to_anchor;
+    PERCH_ASSERT(rope_count < ropes.size(), "prune: rope table full");
+    rope_node& r = ropes[rope_count];
+    r.left = a.line;
+    r.left_dir = first.direction;
+    r.right = b.line;
+    r.right_dir = second.direction;
+    r.inner_count = 0;
+    skeleton_edge_data out;
+    out.line = polyline_ref{0, 0, static_cast<std::int32_t>(rope_count)};
+    ++rope_count;
+    out.pixel_total = a.pixel_total + b.pixel_total;
+    out.in_range = a.in_range + b.in_range;
+    out.diameter_sum_px = a.diameter_sum_px + b.diameter_sum_px;
+    out.length_px = a.length_px + b.length_px;
+    if (a1.valid != 0) {
+      r.inner[r.inner_count++] = a1;
+      add_point(out, a1.radius_px);
+    }
+    if (a2.valid != 0 && !(a1.valid != 0 && a1.position == a2.position)) {
+      r.inner[r.inner_count++] = a2;
+      add_point(out, a2.radius_px);
+      if (a1.valid != 0) out.length_px += pixel_step_px(a1.position, a2.position);
+    }
+    out.from_anchor = first.direction == traversal::forward ? a.from_anchor : a.to_anchor;
+    out.to_anchor = second.direction == traversal::forward ? b.to_anchor : b.from_anchor;
+    out.component = a.component;
+    return out;
+  }
+};
+
+/// The leaf rules of `prune_skeleton_graph` on one graph: which leaves are spurs or weak, which
+/// tips the frame cuts, and which leaf is where a branch goes on.
+struct leaf_rules {
+  const skeleton_graph::topology_type& g;
+  const prune_options& options;
+  float mm_per_px;
+  pixel_box image;
+
+  [[nodiscard]] bool is_trunk(node_id v) const noexcept { return g.node(v).trunk != 0; }
+
+  /// Eq. 1's weak leaves: light and short.
+  [[nodiscard]] bool light(const skeleton_edge_data& d) const noexcept {
+    return d.weight < options.weight_threshold && d.length_px * mm_per_px < options.max_length_mm;
+  }
+
+  /// A tip on the image's edge: a leaf there is cut by the frame.
+  [[nodiscard]] bool cut(node_id tip) const noexcept {
+    const pixel p = g.node(tip).position;
+    return !image.empty() && (p.x <= image.x_min + 1 || p.y <= image.y_min + 1 ||
+                              p.x >= image.x_max - 1 || p.y >= image.y_max - 1);
+  }
+
+  /// Whether leaf edge `e` is where the branch at `stem` goes on: the longest leaf (ties: the
+  /// lowest id; a leaf to the trunk node always wins) of a stem with at most one non-leaf
+  /// edge. Removing it would cut the branch short (a round tip forks into two spurs; a spur
+  /// near a tip sits beside the tip's segment).
+  [[nodiscard]] bool continues_through(node_id stem, edge_id e) const noexcept {
+    int non_leaf = 0;
+    for (const edge_id f : g.incident_edges(stem)) {
+      const node_id other = g.source(f) == stem ? g.target(f) : g.source(f);
+      if (other == stem || g.degree(other) != 1) {
+        ++non_leaf;
+        continue;
+      }
+      if (f == e) continue;
+      if (is_trunk(other)) return false;  // the branch goes on to the trunk
+      const float lf = g.edge(f).length_px, le = g.edge(e).length_px;
+      if (lf > le || (lf == le && f < e)) return false;  // a longer leaf goes on
+    }
+    return non_leaf <= 1;
+  }
+};
+
+/// Step 2 of a pruning round: the leaf edges to remove, decided on this round's degrees and
+/// weights, written to `removal`; returns their count.
+inline std::size_t leaves_to_remove(const skeleton_graph::topology_type& g, const leaf_rules& rules,
+                                    std::span<std::int32_t> removal,
+                                    prune_report& report) noexcept {
+  std::size_t count = 0;
+  g.for_each_edge([&](edge_id e) {
+    const node_id a = g.source(e);
+    const node_id b = g.target(e);
+    if (a == b) return;
+    const bool leaf_a = g.degree(a) == 1;
+    const bool leaf_b = g.degree(b) == 1;
+    if ((!leaf_a && !leaf_b) || rules.is_trunk(a) || rules.is_trunk(b)) return;
+    const skeleton_edge_data& d = g.edge(e);
+    const node_id stem = leaf_a ? b : a;
+    const float r = g.node(stem).radius_px;
+    const bool spur =
+        d.length_px <= rules.options.tip_spur_factor * r + rules.options.tip_spur_px;
+    const bool weak = rules.light(d) && !rules.cut(leaf_a ? a : b);
+    if ((spur || weak) && rules.continues_through(stem, e)) return;
+    if (spur) ++report.tip_spurs_removed;
+    else if (weak) ++report.weak_leaves_removed;
+    if (spur || weak) removal[count++] = e;
+  });
+  return count;
+}
+
+/// Removes the edges `removal` and the nodes they leave without an edge.
+inline void remove_leaves(skeleton_graph::topology_type& g, std::span<const std::int32_t> removal,
+                          prune_report& report) noexcept {
+  for (const edge_id e : removal) {
+    const node_id a = g.source(e);
+    const node_id b = g.target(e);
+    g.remove_edge(e);
+    for (const node_id v : {a, b})
+      if (g.contains_node(v) && g.degree(v) == 0) {
+        g.remove_node(v);
+        ++report.nodes_removed;
+      }
+  }
+}
+
+/// Step 3 of a pruning round: joins the two branches of every node of degree 2 but the trunk
+/// nodes and loops; returns how many were joined.
+inline std::uint32_t merge_degree_two_nodes(skeleton_graph::topology_type& g,
+                                            const leaf_rules& rules,
+                                            branch_joiner& join) noexcept {
+  std::uint32_t merged = 0;
+  const node_id node_end = g.node_id_end();
+  for (node_id v = 0; v < node_end; ++v) {
+    if (!g.contains_node(v) || g.degree(v) != 2 || rules.is_trunk(v)) continue;
+    auto it = g.incident_edges(v).begin();
+    const edge_id e1 = *it;
+    ++it;
+    if (*it == e1) continue;  // a loop
+    auto joined = g.merge_node(v, join);
+    PERCH_ASSERT(joined.has_value(), "prune: merge of a degree-2 node failed");
+    (void)joined;
+    ++merged;
+  }
+  return merged;
+}
+
+/// Leaf edges left that would be weak but for a tip the frame cuts.
+inline std::uint32_t count_cut_leaves_kept(const skeleton_graph::topology_type& g,
+                                           const leaf_rules& rules) noexcept {
+  std::uint32_t kept = 0;
+  g.for_each_edge([&](edge_id e) {
+    const node_id a = g.source(e), b = g.target(e);
+    const node_id tip = g.degree(a) == 1 ? a : b;
+    if (a != b && g.degree(tip) == 1 && !rules.is_trunk(a) && !rules.is_trunk(b) &&
+        rules.light(g.edge(e)) && rules.cut(tip))
+      ++kept;
+  });
+  return kept;
+}
+
+/// Writes every live polyline, joined ones walked through their ropes depth first, flat into
+/// the graph's other pool, which becomes the active one (the pools swap roles). `stack`:
+/// scratch for the rope walk (3 entries per rope + 4).
+inline void flatten_ropes(skeleton_graph& graph, std::span<const rope_node> ropes,
+                          std::span<rope_item> stack) noexcept {
+  using access = skeleton_graph_access;
+  auto& g = access::topology(graph);
+  const int src = access::active(graph);
+  const int dst = 1 - src;
+  const std::span<pixel> from_pts = access::points(graph, src);
+  const std::span<float> from_rad = access::radii(graph, src);
+  const std::span<pixel> to_pts = access::points(graph, dst);
+  const std::span<float> to_rad = access::radii(graph, dst);
+  std::size_t cursor = 0;
+  g.for_each_edge([&](edge_id e) {
+    skeleton_edge_data& d = g.edge(e);
+    const std::size_t first = cursor;
+    std::size_t top = 0;
+    stack[top++] = rope_item{d.line, branch_anchor{}, traversal::forward, 0};
+    while (top > 0) {
+      const rope_item item = stack[--top];
+      if (item.is_anchor != 0) {
+        PERCH_ASSERT(cursor < to_pts.size(), "prune: pool overflow");
+        to_pts[cursor] = item.point.position;
+        to_rad[cursor] = item.point.radius_px;
+        ++cursor;
+      } else if (item.ref.rope < 0) {
+        PERCH_ASSERT(cursor + item.ref.count <= to_pts.size(), "prune: pool overflow");
+        for (std::size_t i = 0; i < item.ref.count; ++i) {
+          const std::size_t j = item.dir == traversal::forward
+                                    ? item.ref.offset + i
+                                    : item.ref.offset + item.ref.count - 1 - i;
+          to_pts[cursor] = from_pts[j];
+          to_rad[cursor] = from_rad[j];
+          ++cursor;
+        }
+      } else {
+        const rope_node& r = ropes[static_cast<std::size_t>(item.ref.rope)];
+        // Emission order forward: left, inner[0], inner[1], right; pushed in reverse.
+        rope_item seq[4];
+        std::size_t m = 0;
+        seq[m++] = rope_item{r.left, branch_anchor{}, r.left_dir, 0};
+        for (std::size_t i = 0; i < r.inner_count; ++i)
+          seq[m++] = rope_item{polyline_ref{}, r.inner[i], traversal::forward, 1};
+        seq[m++] = rope_item{r.right, branch_anchor{}, r.right_dir, 0};
+        if (item.dir == traversal::backward) {
+          for (std::size_t i = 0; i < m / 2; ++i) std::swap(seq[i], seq[m - 1 - i]);
+          for (std::size_t i = 0; i < m; ++i) seq[i].dir = reversed(seq[i].dir);
+        }
+        PERCH_ASSERT(top + m <= stack.size(), "prune: rope stack overflow");
+        for (std::size_t i = m; i-- > 0;) stack[top++] = seq[i];
+      }
+    }
+    d.line = polyline_ref{static_cast<std::uint32_t>(first),
+                          static_cast<std::uint32_t>(cursor - first), -1};
+  });
+  access::active(graph) = dst;
+}
+
 }  // namespace detail
 
 /// Sets every branch's `weight` by paper eq. 1:
@@ -169,203 +400,29 @@ inline void apply_weights(skeleton_graph::topology_type& g, float alpha) noexcep
 
   const workspace::checkpoint scratch = ws.mark();
   const std::size_t rope_cap = g.node_count();
-  auto ropes_s = ws.allocate<rope_node>(rope_cap);
-  auto removal_s = ws.allocate<std::int32_t>(g.edge_count());
-  auto stack_s = ws.allocate<rope_item>(3 * rope_cap + 4);
-  if (!ropes_s || !removal_s || !stack_s) {
+  auto ropes = ws.allocate<rope_node>(rope_cap);
+  auto removal = ws.allocate<std::int32_t>(g.edge_count());
+  auto stack = ws.allocate<rope_item>(3 * rope_cap + 4);
+  if (auto ok = all_ok(ropes, removal, stack); !ok) {
     ws.rewind(scratch);
-    return unexpected{!ropes_s ? ropes_s.error() : (!removal_s ? removal_s.error() : stack_s.error())};
+    return unexpected{ok.error()};
   }
-  const std::span<rope_node> ropes = *ropes_s;
-  const std::span<std::int32_t> removal = *removal_s;
-  const std::span<rope_item> stack = *stack_s;
-  std::size_t rope_count = 0;
 
   count_in_spec(graph, mm_per_px, options);
-  auto is_trunk = [&](node_id v) { return g.node(v).trunk != 0; };
-  auto add_point = [&](skeleton_edge_data& d, float r) {
-    ++d.pixel_total;
-    d.diameter_sum_px += diameter_from_radius(r);
-    d.in_range += in_spec_range(r, mm_per_px, options) ? 1u : 0u;
-  };
-  auto join = [&](const edge_part<skeleton_edge_data>& first, const skeleton_node_data&,
-                  const edge_part<skeleton_edge_data>& second) {
-    const skeleton_edge_data& a = first.data;
-    const skeleton_edge_data& b = second.data;
-    const branch_anchor a1 = first.direction == traversal::forward ? a.to_anchor : a.from_anchor;
-    const branch_anchor a2 = second.direction == traversal::forward ? b.from_anchor : b.to_anchor;
-    PERCH_ASSERT(rope_count < ropes.size(), "prune: rope table full");
-    rope_node& r = ropes[rope_count];
-    r.left = a.line;
-    r.left_dir = first.direction;
-    r.right = b.line;
-    r.right_dir = second.direction;
-    r.inner_count = 0;
-    skeleton_edge_data out;
-    out.line = polyline_ref{0, 0, static_cast<std::int32_t>(rope_count)};
-    ++rope_count;
-    out.pixel_total = a.pixel_total + b.pixel_total;
-    out.in_range = a.in_range + b.in_range;
-    out.diameter_sum_px = a.diameter_sum_px + b.diameter_sum_px;
-    out.length_px = a.length_px + b.length_px;
-    if (a1.valid != 0) {
-      r.inner[r.inner_count++] = a1;
-      add_point(out, a1.radius_px);
-    }
-    if (a2.valid != 0 && !(a1.valid != 0 && a1.position == a2.position)) {
-      r.inner[r.inner_count++] = a2;
-      add_point(out, a2.radius_px);
-      if (a1.valid != 0) out.length_px += pixel_step_px(a1.position, a2.position);
-    }
-    out.from_anchor = first.direction == traversal::forward ? a.from_anchor : a.to_anchor;
-    out.to_anchor = second.direction == traversal::forward ? b.to_anchor : b.from_anchor;
-    out.component = a.component;
-    return out;
-  };
-
-  // Whether leaf edge `e` is where the branch at `stem` goes on: the longest leaf (ties: the
-  // lowest id; a leaf to the trunk node always wins) of a stem with at most one non-leaf edge.
-  // Removing it would cut the branch short (a round tip forks into two spurs; a spur near a tip
-  // sits beside the tip's segment).
-  auto continues_through = [&](node_id stem, edge_id e) {
-    int non_leaf = 0;
-    for (const edge_id f : g.incident_edges(stem)) {
-      const node_id other = g.source(f) == stem ? g.target(f) : g.source(f);
-      if (other == stem || g.degree(other) != 1) {
-        ++non_leaf;
-        continue;
-      }
-      if (f == e) continue;
-      if (is_trunk(other)) return false;  // the branch goes on to the trunk
-      const float lf = g.edge(f).length_px, le = g.edge(e).length_px;
-      if (lf > le || (lf == le && f < e)) return false;  // a longer leaf goes on
-    }
-    return non_leaf <= 1;
-  };
-
-  // Eq. 1's weak leaves, and tips on the image's edge (a leaf there is cut by the frame).
-  auto light = [&](const skeleton_edge_data& d) {
-    return d.weight < options.weight_threshold && d.length_px * mm_per_px < options.max_length_mm;
-  };
-  auto cut = [&](node_id tip) {
-    const pixel p = g.node(tip).position;
-    return !image.empty() && (p.x <= image.x_min + 1 || p.y <= image.y_min + 1 ||
-                              p.x >= image.x_max - 1 || p.y >= image.y_max - 1);
-  };
-
+  const leaf_rules rules{g, options, mm_per_px, image};
+  branch_joiner join{*ropes, 0, mm_per_px, &options};
   for (;;) {
     ++report.passes;
     apply_weights(g, options.alpha);
-    // 2. Leaf edges to remove (decided on this round's degrees and weights).
-    std::size_t count = 0;
-    g.for_each_edge([&](edge_id e) {
-      const node_id a = g.source(e);
-      const node_id b = g.target(e);
-      if (a == b) return;
-      const bool leaf_a = g.degree(a) == 1;
-      const bool leaf_b = g.degree(b) == 1;
-      if ((!leaf_a && !leaf_b) || is_trunk(a) || is_trunk(b)) return;
-      const skeleton_edge_data& d = g.edge(e);
-      const node_id stem = leaf_a ? b : a;
-      const float r = g.node(stem).radius_px;
-      const bool spur = d.length_px <= options.tip_spur_factor * r + options.tip_spur_px;
-      const bool weak = light(d) && !cut(leaf_a ? a : b);
-      if ((spur || weak) && continues_through(stem, e)) return;
-      if (spur) ++report.tip_spurs_removed;
-      else if (weak) ++report.weak_leaves_removed;
-      if (spur || weak) removal[count++] = e;
-    });
-    for (std::size_t i = 0; i < count; ++i) {
-      const edge_id e = removal[i];
-      const node_id a = g.source(e);
-      const node_id b = g.target(e);
-      g.remove_edge(e);
-      for (const node_id v : {a, b})
-        if (g.contains_node(v) && g.degree(v) == 0) {
-          g.remove_node(v);
-          ++report.nodes_removed;
-        }
-    }
-    // 3. Degree-2 merges.
-    std::uint32_t merged = 0;
-    const node_id node_end = g.node_id_end();
-    for (node_id v = 0; v < node_end; ++v) {
-      if (!g.contains_node(v) || g.degree(v) != 2 || is_trunk(v)) continue;
-      auto it = g.incident_edges(v).begin();
-      const edge_id e1 = *it;
-      ++it;
-      if (*it == e1) continue;  // a loop
-      auto joined = g.merge_node(v, join);
-      PERCH_ASSERT(joined.has_value(), "prune: merge of a degree-2 node failed");
-      (void)joined;
-      ++merged;
-    }
+    const std::size_t count = leaves_to_remove(g, rules, *removal, report);
+    remove_leaves(g, removal->first(count), report);
+    const std::uint32_t merged = merge_degree_two_nodes(g, rules, join);
     report.nodes_merged += merged;
     if (count == 0 && merged == 0) break;
   }
   apply_weights(g, options.alpha);
-  g.for_each_edge([&](edge_id e) {
-    const node_id a = g.source(e), b = g.target(e);
-    const node_id tip = g.degree(a) == 1 ? a : b;
-    if (a != b && g.degree(tip) == 1 && !is_trunk(a) && !is_trunk(b) && light(g.edge(e)) &&
-        cut(tip))
-      ++report.cut_leaves_kept;
-  });
-
-  // Write joined polylines out flat into the other pool (every live polyline is copied, so the
-  // pools swap roles).
-  if (rope_count > 0) {
-    const int src = access::active(graph);
-    const int dst = 1 - src;
-    const std::span<pixel> from_pts = access::points(graph, src);
-    const std::span<float> from_rad = access::radii(graph, src);
-    const std::span<pixel> to_pts = access::points(graph, dst);
-    const std::span<float> to_rad = access::radii(graph, dst);
-    std::size_t cursor = 0;
-    g.for_each_edge([&](edge_id e) {
-      skeleton_edge_data& d = g.edge(e);
-      const std::size_t first = cursor;
-      std::size_t top = 0;
-      stack[top++] = rope_item{d.line, branch_anchor{}, traversal::forward, 0};
-      while (top > 0) {
-        const rope_item item = stack[--top];
-        if (item.is_anchor != 0) {
-          PERCH_ASSERT(cursor < to_pts.size(), "prune: pool overflow");
-          to_pts[cursor] = item.point.position;
-          to_rad[cursor] = item.point.radius_px;
-          ++cursor;
-        } else if (item.ref.rope < 0) {
-          PERCH_ASSERT(cursor + item.ref.count <= to_pts.size(), "prune: pool overflow");
-          for (std::size_t i = 0; i < item.ref.count; ++i) {
-            const std::size_t j = item.dir == traversal::forward
-                                      ? item.ref.offset + i
-                                      : item.ref.offset + item.ref.count - 1 - i;
-            to_pts[cursor] = from_pts[j];
-            to_rad[cursor] = from_rad[j];
-            ++cursor;
-          }
-        } else {
-          const rope_node& r = ropes[static_cast<std::size_t>(item.ref.rope)];
-          // Emission order forward: left, inner[0], inner[1], right; pushed in reverse.
-          rope_item seq[4];
-          std::size_t m = 0;
-          seq[m++] = rope_item{r.left, branch_anchor{}, r.left_dir, 0};
-          for (std::size_t i = 0; i < r.inner_count; ++i)
-            seq[m++] = rope_item{polyline_ref{}, r.inner[i], traversal::forward, 1};
-          seq[m++] = rope_item{r.right, branch_anchor{}, r.right_dir, 0};
-          if (item.dir == traversal::backward) {
-            for (std::size_t i = 0; i < m / 2; ++i) std::swap(seq[i], seq[m - 1 - i]);
-            for (std::size_t i = 0; i < m; ++i) seq[i].dir = reversed(seq[i].dir);
-          }
-          PERCH_ASSERT(top + m <= stack.size(), "prune: rope stack overflow");
-          for (std::size_t i = m; i-- > 0;) stack[top++] = seq[i];
-        }
-      }
-      d.line = polyline_ref{static_cast<std::uint32_t>(first),
-                            static_cast<std::uint32_t>(cursor - first), -1};
-    });
-    access::active(graph) = dst;
-  }
+  report.cut_leaves_kept = count_cut_leaves_kept(g, rules);
+  if (join.rope_count > 0) flatten_ropes(graph, ropes->first(join.rope_count), *stack);
   ws.rewind(scratch);
   report.branches_after = g.edge_count();
   return report;

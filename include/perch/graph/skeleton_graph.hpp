@@ -16,6 +16,7 @@
 #include "perch/core/image_view.hpp"
 #include "perch/core/prefetch.hpp"
 #include "perch/core/result.hpp"
+#include "perch/core/row_runs.hpp"
 #include "perch/core/union_find.hpp"
 #include "perch/core/workspace.hpp"
 #include "perch/graph/adjacency_list.hpp"
@@ -284,79 +285,25 @@ struct skeleton_graph_access {
   static std::size_t& skeleton_pixels(skeleton_graph& g) noexcept { return g.skeleton_pixels_; }
 };
 
-/// Everything of `build_skeleton_graph` after the graph's storage is allocated; `scratch`
-/// memory is drawn from `ws` and released by the caller.
-template <BinaryView Skeleton>
-[[nodiscard]] status trace_skeleton(const Skeleton& skeleton, image_view<const std::uint32_t> dist2,
-                                    const row_runs* runs, skeleton_graph& out,
-                                    workspace& ws) noexcept {
-  using access = skeleton_graph_access;
-  auto& g = access::topology(out);
-  const std::size_t n = access::skeleton_pixels(out);
-  const std::size_t node_cap = g.node_capacity();
+/// The skeleton pixels in raster order and what tracing reads of each (step 1 of
+/// `build_skeleton_graph`): position, neighbourhood, path neighbours, kind, radius, and the
+/// node or branch that owns it. A neighbour's index follows from the neighbourhood and where in
+/// the order the pixels from (x − 1, y − 1) and from (x − 1, y + 1) on start (`above`,
+/// `below`), so no image-sized index map is needed.
+struct skeleton_pixel_table {
+  std::span<pixel> pos;
+  std::span<std::uint8_t> mask;  ///< 8-neighbourhood (bit i = `neighbours8[i]`)
+  std::span<std::uint8_t> path;  ///< path neighbours (`pixel_kinds_by_mask.path`)
+  std::span<std::uint8_t> kind;  ///< `pixel_kind`
+  std::span<std::uint32_t> owner;  ///< node id | `node_owner_tag`, edge id, or `no_owner`
+  std::span<std::uint32_t> above;
+  std::span<std::uint32_t> below;
+  std::span<float> radii;
 
-  auto pos_s = ws.allocate<pixel>(n);
-  PERCH_TRY(all_ok(pos_s));
-  auto mask_s = ws.allocate<std::uint8_t>(n);
-  PERCH_TRY(all_ok(mask_s));
-  auto path_s = ws.allocate<std::uint8_t>(n);
-  PERCH_TRY(all_ok(path_s));
-  auto kind_s = ws.allocate<std::uint8_t>(n);
-  PERCH_TRY(all_ok(kind_s));
-  auto owner_s = ws.allocate<std::uint32_t>(n);
-  PERCH_TRY(all_ok(owner_s));
-  auto stack_s = ws.allocate<std::uint32_t>(n);
-  PERCH_TRY(all_ok(stack_s));
-  auto rows_s = ws.allocate<std::uint32_t>(2 * n);  // `above`, then `below`
-  PERCH_TRY(all_ok(rows_s));
-  auto radius_s = ws.allocate<float>(n);
-  PERCH_TRY(all_ok(radius_s));
-  auto parent_s = ws.allocate<std::int32_t>(node_cap);
-  PERCH_TRY(all_ok(parent_s));
-  auto number_s = ws.allocate<std::int32_t>(node_cap);
-  PERCH_TRY(all_ok(number_s));
-  auto largest_s = ws.allocate<float>(node_cap);
-  PERCH_TRY(all_ok(largest_s));
-  const std::span<pixel> pos = *pos_s;
-  const std::span<std::uint8_t> mask = *mask_s;
-  const std::span<std::uint8_t> path = *path_s;
-  const std::span<std::uint8_t> kind = *kind_s;
-  const std::span<std::uint32_t> owner = *owner_s;
-  const std::span<std::uint32_t> stack = *stack_s;
-  const std::span<std::uint32_t> above = rows_s->first(n);
-  const std::span<std::uint32_t> below = rows_s->subspan(n);
-  const std::span<float> radii = *radius_s;
-
-  // 1. Skeleton pixels in raster order, their neighbourhoods, kinds and radii, and where in that
-  //    order the pixels from (x − 1, y − 1) and from (x − 1, y + 1) on start: a neighbour's index
-  //    then follows from the neighbourhood (see `neighbour`), with no image-sized index map.
-  std::size_t k = 0;
-  for_each_skeleton_pixel(skeleton, runs, [&](int x, int y) { pos[k++] = pixel{x, y}; });
-  PERCH_ASSERT(k == n, "build_skeleton_graph: pixel count changed");
-  auto before = [&](std::size_t j, int x, int y) {  // pos[j] before (x, y) in raster order
-    return pos[j].y < y || (pos[j].y == y && pos[j].x < x);
-  };
-  std::size_t up = 0;
-  std::size_t down = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const pixel p = pos[i];
-    // The distances are read at scattered pixels: each fetched 16 pixels ahead.
-    if (i + 16 < n) prefetch(&dist2(pos[i + 16].x, pos[i + 16].y));
-    while (before(up, p.x - 1, p.y - 1)) ++up;  // stops at i at the latest
-    while (down < n && before(down, p.x - 1, p.y + 1)) ++down;
-    above[i] = static_cast<std::uint32_t>(up);
-    below[i] = static_cast<std::uint32_t>(down);
-    const std::uint8_t m = neighbour_mask(skeleton, p.x, p.y);
-    mask[i] = m;
-    path[i] = pixel_kinds_by_mask.path[m];
-    kind[i] = static_cast<std::uint8_t>(pixel_kinds_by_mask.kind[m]);
-    owner[i] = no_owner;
-    radii[i] = static_cast<float>(std::sqrt(static_cast<double>(dist2(p.x, p.y))));
-  }
-  // The neighbour of pixel i in direction `bit` (which must be set in its neighbourhood): the
-  // row's other pixels are its raster neighbours; a row above or below holds the set ones of
-  // its three (west to east) consecutively from `above[i]` / `below[i]`.
-  auto neighbour = [&](std::size_t i, int bit) -> std::size_t {
+  /// The neighbour of pixel i in direction `bit` (which must be set in its neighbourhood): the
+  /// row's other pixels are its raster neighbours; a row above or below holds the set ones of
+  /// its three (west to east) consecutively from `above[i]` / `below[i]`.
+  [[nodiscard]] std::size_t neighbour(std::size_t i, int bit) const noexcept {
     const unsigned m = mask[i];
     switch (bit) {
       case 0:  // E
@@ -376,175 +323,246 @@ template <BinaryView Skeleton>
       default:  // SE
         return below[i] + ((m >> 5) & 1u) + ((m >> 6) & 1u);
     }
-  };
-  auto radius = [&](std::size_t i) { return radii[i]; };
-  auto is = [&](std::size_t i, pixel_kind pk) { return kind[i] == static_cast<std::uint8_t>(pk); };
-  auto node_of = [&](std::size_t i) { return static_cast<node_id>(owner[i] & ~node_owner_tag); };
-  auto node_owned = [&](std::size_t i) {
+  }
+  [[nodiscard]] bool is(std::size_t i, pixel_kind pk) const noexcept {
+    return kind[i] == static_cast<std::uint8_t>(pk);
+  }
+  [[nodiscard]] node_id node_of(std::size_t i) const noexcept {
+    return static_cast<node_id>(owner[i] & ~node_owner_tag);
+  }
+  [[nodiscard]] bool node_owned(std::size_t i) const noexcept {
     return owner[i] != no_owner && (owner[i] & node_owner_tag) != 0;
-  };
-  auto edge_owned = [&](std::size_t i) {
+  }
+  [[nodiscard]] bool edge_owned(std::size_t i) const noexcept {
     return owner[i] != no_owner && (owner[i] & node_owner_tag) == 0;
-  };
+  }
+};
 
-  // 2. Nodes in raster order of their first pixel: junction clusters (8-connected junction
-  //    pixels), ends, isolated pixels.
+/// Step 1 of `build_skeleton_graph`: fills `t` with the `t.pos.size()` skeleton pixels in
+/// raster order, their neighbourhoods, kinds and radii (√dist2), none owned yet.
+template <BinaryView Skeleton>
+void index_skeleton_pixels(const Skeleton& skeleton, image_view<const std::uint32_t> dist2,
+                           const row_runs* runs, const skeleton_pixel_table& t) noexcept {
+  const std::size_t n = t.pos.size();
+  std::size_t k = 0;
+  for_each_skeleton_pixel(skeleton, runs, [&](int x, int y) { t.pos[k++] = pixel{x, y}; });
+  PERCH_ASSERT(k == n, "build_skeleton_graph: pixel count changed");
+  auto before = [&](std::size_t j, int x, int y) {  // pos[j] before (x, y) in raster order
+    return t.pos[j].y < y || (t.pos[j].y == y && t.pos[j].x < x);
+  };
+  std::size_t up = 0;
+  std::size_t down = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    if (is(i, pixel_kind::junction)) {
-      if (owner[i] != no_owner) continue;
+    const pixel p = t.pos[i];
+    // The distances are read at scattered pixels: each fetched 16 pixels ahead.
+    if (i + 16 < n) prefetch(&dist2(t.pos[i + 16].x, t.pos[i + 16].y));
+    while (before(up, p.x - 1, p.y - 1)) ++up;  // stops at i at the latest
+    while (down < n && before(down, p.x - 1, p.y + 1)) ++down;
+    t.above[i] = static_cast<std::uint32_t>(up);
+    t.below[i] = static_cast<std::uint32_t>(down);
+    const std::uint8_t m = neighbour_mask(skeleton, p.x, p.y);
+    t.mask[i] = m;
+    t.path[i] = pixel_kinds_by_mask.path[m];
+    t.kind[i] = static_cast<std::uint8_t>(pixel_kinds_by_mask.kind[m]);
+    t.owner[i] = no_owner;
+    t.radii[i] = static_cast<float>(std::sqrt(static_cast<double>(dist2(p.x, p.y))));
+  }
+}
+
+/// One junction cluster (the 8-connected junction pixels reached from pixel `first`) as node
+/// `id`, placed at its widest pixel (first in raster order on ties). `stack`: scratch of one
+/// entry per skeleton pixel.
+inline void gather_junction_cluster(skeleton_graph::topology_type& g,
+                                    const skeleton_pixel_table& t, std::span<std::uint32_t> stack,
+                                    std::size_t first, node_id id) noexcept {
+  const std::uint32_t tag = node_owner_tag | static_cast<std::uint32_t>(id);
+  std::size_t top = 0;
+  stack[top++] = static_cast<std::uint32_t>(first);
+  t.owner[first] = tag;
+  std::uint32_t count = 0;
+  std::size_t widest = first;
+  float widest_r = t.radii[first];
+  while (top > 0) {
+    const std::size_t j = stack[--top];
+    ++count;
+    const float r = t.radii[j];
+    if (r > widest_r || (r == widest_r && j < widest)) {
+      widest = j;
+      widest_r = r;
+    }
+    for (int b = 0; b < 8; ++b) {
+      if (((static_cast<unsigned>(t.mask[j]) >> b) & 1u) == 0) continue;
+      const std::size_t q = t.neighbour(j, b);
+      if (t.is(q, pixel_kind::junction) && t.owner[q] == no_owner) {
+        t.owner[q] = tag;
+        stack[top++] = static_cast<std::uint32_t>(q);
+      }
+    }
+  }
+  skeleton_node_data& d = g.node(id);
+  d.position = t.pos[widest];
+  d.radius_px = widest_r;
+  d.pixel_count = count;
+}
+
+/// Step 2 of `build_skeleton_graph`: nodes in raster order of their first pixel: junction
+/// clusters (8-connected junction pixels), ends, isolated pixels.
+inline status add_skeleton_nodes(skeleton_graph::topology_type& g, const skeleton_pixel_table& t,
+                                 std::span<std::uint32_t> stack) noexcept {
+  for (std::size_t i = 0; i < t.pos.size(); ++i) {
+    if (t.is(i, pixel_kind::junction)) {
+      if (t.owner[i] != no_owner) continue;
       auto id = g.add_node();
       PERCH_TRY(all_ok(id));
-      const std::uint32_t tag = node_owner_tag | static_cast<std::uint32_t>(*id);
-      std::size_t top = 0;
-      stack[top++] = static_cast<std::uint32_t>(i);
-      owner[i] = tag;
-      std::uint32_t count = 0;
-      std::size_t widest = i;
-      float widest_r = radius(i);
-      while (top > 0) {
-        const std::size_t j = stack[--top];
-        ++count;
-        const float r = radius(j);
-        if (r > widest_r || (r == widest_r && j < widest)) {
-          widest = j;
-          widest_r = r;
-        }
-        for (int b = 0; b < 8; ++b) {
-          if (((static_cast<unsigned>(mask[j]) >> b) & 1u) == 0) continue;
-          const std::size_t q = neighbour(j, b);
-          if (is(q, pixel_kind::junction) && owner[q] == no_owner) {
-            owner[q] = tag;
-            stack[top++] = static_cast<std::uint32_t>(q);
-          }
-        }
-      }
-      detail::skeleton_node_data& d = g.node(*id);
-      d.position = pos[widest];
-      d.radius_px = widest_r;
-      d.pixel_count = count;
-    } else if (is(i, pixel_kind::end) || is(i, pixel_kind::isolated)) {
-      detail::skeleton_node_data d;
-      d.position = pos[i];
-      d.radius_px = radius(i);
-      d.pixel_count = is(i, pixel_kind::isolated) ? 1u : 0u;
+      gather_junction_cluster(g, t, stack, i, *id);
+    } else if (t.is(i, pixel_kind::end) || t.is(i, pixel_kind::isolated)) {
+      skeleton_node_data d;
+      d.position = t.pos[i];
+      d.radius_px = t.radii[i];
+      d.pixel_count = t.is(i, pixel_kind::isolated) ? 1u : 0u;
       auto id = g.add_node(d);
       PERCH_TRY(all_ok(id));
-      owner[i] = node_owner_tag | static_cast<std::uint32_t>(*id);
+      t.owner[i] = node_owner_tag | static_cast<std::uint32_t>(*id);
     }
   }
+  return {};
+}
 
-  // 3. Branches: walk along path neighbours from each end and from each junction pixel's
-  //    untraced path neighbours; then closed loops from their first raster pixel.
-  const std::span<pixel> pts = access::points(out, 0);
-  const std::span<float> rad = access::radii(out, 0);
+/// The branch polylines being written into the graph's first pool.
+struct branch_writer {
+  std::span<pixel> points;
+  std::span<float> radii;
   std::size_t used = 0;
-  auto trace = [&](std::size_t start, std::size_t from_pixel, node_id from) -> status {
-    if (static_cast<std::size_t>(g.edge_id_end()) == g.edge_capacity())
-      return fail(errc::capacity_exceeded, "skeleton_graph branches", g.edge_capacity() + 1);
-    const auto id = static_cast<std::uint32_t>(g.edge_id_end());
-    detail::skeleton_edge_data d;
-    d.line.offset = static_cast<std::uint32_t>(used);
-    if (from_pixel != no_owner)
-      d.from_anchor = branch_anchor{pos[from_pixel], radius(from_pixel), 1};
-    std::size_t prev = from_pixel;
-    std::size_t cur = start;
-    node_id to = from;
-    for (std::size_t guard = 0; guard <= n; ++guard) {
-      if (node_owned(cur)) to = node_of(cur);  // an end pixel: its node
-      const float r = radius(cur);
-      pts[used] = pos[cur];
-      rad[used] = r;
-      ++used;
-      d.diameter_sum_px += diameter_from_radius(r);
-      if (prev != no_owner) d.length_px += pixel_step_px(pos[prev], pos[cur]);
-      owner[cur] = id;
-      std::size_t next = no_owner;
-      std::size_t junction = no_owner;
-      for (int b = 0; b < 8; ++b) {
-        if (((static_cast<unsigned>(path[cur]) >> b) & 1u) == 0) continue;
-        const std::size_t q = neighbour(cur, b);
-        if (q == prev) continue;
-        if (is(q, pixel_kind::junction)) {
-          if (junction == no_owner) junction = q;
-        } else if (next == no_owner) {
-          next = q;
-        }
+};
+
+/// One branch: from pixel `start` (after junction pixel `from_pixel`, or `no_owner` from an
+/// end or a loop) along path neighbours until an end pixel, a junction, or back at the start
+/// of a closed loop; added as an edge from node `from`.
+inline status trace_branch(skeleton_graph::topology_type& g, const skeleton_pixel_table& t,
+                           branch_writer& w, std::size_t start, std::size_t from_pixel,
+                           node_id from) noexcept {
+  if (static_cast<std::size_t>(g.edge_id_end()) == g.edge_capacity())
+    return fail(errc::capacity_exceeded, "skeleton_graph branches", g.edge_capacity() + 1);
+  const auto id = static_cast<std::uint32_t>(g.edge_id_end());
+  skeleton_edge_data d;
+  d.line.offset = static_cast<std::uint32_t>(w.used);
+  if (from_pixel != no_owner)
+    d.from_anchor = branch_anchor{t.pos[from_pixel], t.radii[from_pixel], 1};
+  std::size_t prev = from_pixel;
+  std::size_t cur = start;
+  node_id to = from;
+  for (std::size_t guard = 0; guard <= t.pos.size(); ++guard) {
+    if (t.node_owned(cur)) to = t.node_of(cur);  // an end pixel: its node
+    const float r = t.radii[cur];
+    w.points[w.used] = t.pos[cur];
+    w.radii[w.used] = r;
+    ++w.used;
+    d.diameter_sum_px += diameter_from_radius(r);
+    if (prev != no_owner) d.length_px += pixel_step_px(t.pos[prev], t.pos[cur]);
+    t.owner[cur] = id;
+    std::size_t next = no_owner;
+    std::size_t junction = no_owner;
+    for (int b = 0; b < 8; ++b) {
+      if (((static_cast<unsigned>(t.path[cur]) >> b) & 1u) == 0) continue;
+      const std::size_t q = t.neighbour(cur, b);
+      if (q == prev) continue;
+      if (t.is(q, pixel_kind::junction)) {
+        if (junction == no_owner) junction = q;
+      } else if (next == no_owner) {
+        next = q;
       }
-      if (junction != no_owner) {
-        d.length_px += pixel_step_px(pos[cur], pos[junction]);
-        d.to_anchor = branch_anchor{pos[junction], radius(junction), 1};
-        to = node_of(junction);
-        break;
-      }
-      if (next == no_owner) break;  // an end pixel
-      if (edge_owned(next)) {         // back at the start of a closed loop
-        if (owner[next] == id) d.length_px += pixel_step_px(pos[cur], pos[next]);
-        break;
-      }
-      prev = cur;
-      cur = next;
     }
-    d.line.count = static_cast<std::uint32_t>(used - d.line.offset);
-    d.pixel_total = d.line.count;
-    auto e = g.add_edge(from, to, d);
-    PERCH_TRY(all_ok(e));
-    return {};
-  };
+    if (junction != no_owner) {
+      d.length_px += pixel_step_px(t.pos[cur], t.pos[junction]);
+      d.to_anchor = branch_anchor{t.pos[junction], t.radii[junction], 1};
+      to = t.node_of(junction);
+      break;
+    }
+    if (next == no_owner) break;  // an end pixel
+    if (t.edge_owned(next)) {     // back at the start of a closed loop
+      if (t.owner[next] == id) d.length_px += pixel_step_px(t.pos[cur], t.pos[next]);
+      break;
+    }
+    prev = cur;
+    cur = next;
+  }
+  d.line.count = static_cast<std::uint32_t>(w.used - d.line.offset);
+  d.pixel_total = d.line.count;
+  auto e = g.add_edge(from, to, d);
+  PERCH_TRY(all_ok(e));
+  return {};
+}
+
+/// Step 3 of `build_skeleton_graph`: branches, walked along path neighbours from each end and
+/// from each junction pixel's untraced path neighbours; then closed loops from their first
+/// raster pixel, each with a node of its own.
+inline status trace_skeleton_branches(skeleton_graph::topology_type& g,
+                                      const skeleton_pixel_table& t, branch_writer& w) noexcept {
+  const std::size_t n = t.pos.size();
   for (std::size_t i = 0; i < n; ++i) {
-    if (is(i, pixel_kind::end) && node_owned(i)) {
-      PERCH_TRY(trace(i, no_owner, node_of(i)));
-    } else if (is(i, pixel_kind::junction)) {
+    if (t.is(i, pixel_kind::end) && t.node_owned(i)) {
+      PERCH_TRY(trace_branch(g, t, w, i, no_owner, t.node_of(i)));
+    } else if (t.is(i, pixel_kind::junction)) {
       for (int b = 0; b < 8; ++b) {
-        if (((static_cast<unsigned>(path[i]) >> b) & 1u) == 0) continue;
-        const std::size_t q = neighbour(i, b);
-        if (is(q, pixel_kind::junction) || edge_owned(q)) continue;
-        PERCH_TRY(trace(q, i, node_of(i)));
+        if (((static_cast<unsigned>(t.path[i]) >> b) & 1u) == 0) continue;
+        const std::size_t q = t.neighbour(i, b);
+        if (t.is(q, pixel_kind::junction) || t.edge_owned(q)) continue;
+        PERCH_TRY(trace_branch(g, t, w, q, i, t.node_of(i)));
       }
     }
   }
   for (std::size_t i = 0; i < n; ++i) {
-    if (!is(i, pixel_kind::body) || owner[i] != no_owner) continue;
-    detail::skeleton_node_data d;
-    d.position = pos[i];
-    d.radius_px = radius(i);
+    if (!t.is(i, pixel_kind::body) || t.owner[i] != no_owner) continue;
+    skeleton_node_data d;
+    d.position = t.pos[i];
+    d.radius_px = t.radii[i];
     auto id = g.add_node(d);
     PERCH_TRY(all_ok(id));
-    PERCH_TRY(trace(i, no_owner, *id));
+    PERCH_TRY(trace_branch(g, t, w, i, no_owner, *id));
   }
+  return {};
+}
 
-  // 4. Components: union–find over edges, numbered in raster order of the first pixel.
-  const std::span<std::int32_t> number = *number_s;
+/// Step 4 of `build_skeleton_graph`: components by union–find over the edges, numbered in
+/// raster order of their first pixel; returns their count. `parent`, `number`: scratch of
+/// one entry per node id.
+inline std::int32_t number_skeleton_components(skeleton_graph::topology_type& g,
+                                               const skeleton_pixel_table& t,
+                                               std::span<std::int32_t> parent,
+                                               std::span<std::int32_t> number) noexcept {
   const auto node_end = static_cast<std::size_t>(g.node_id_end());
-  detail::union_find sets{parent_s->data(), 0, static_cast<std::int32_t>(node_cap) - 1};
+  union_find sets{parent.data(), 0, static_cast<std::int32_t>(parent.size()) - 1};
   sets.make_singletons(g.node_id_end());
   for (std::size_t i = 0; i < node_end; ++i) number[i] = -1;
   g.for_each_edge([&](edge_id e) { (void)sets.merge(g.source(e), g.target(e)); });
   sets.resolve();
   auto root_of = [&](node_id v) { return static_cast<std::size_t>(sets.parent[v]); };
   std::int32_t components = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const node_id any = node_owned(i) ? node_of(i) : g.source(static_cast<edge_id>(owner[i]));
+  for (std::size_t i = 0; i < t.pos.size(); ++i) {
+    const node_id any = t.node_owned(i) ? t.node_of(i) : g.source(static_cast<edge_id>(t.owner[i]));
     const std::size_t root = root_of(any);
     if (number[root] < 0) number[root] = components++;
   }
-  access::components(out) = components;
   g.for_each_node([&](node_id v) { g.node(v).component = number[root_of(v)]; });
   g.for_each_edge([&](edge_id e) { g.edge(e).component = g.node(g.source(e)).component; });
+  return components;
+}
 
-  // 5. Trunk of each component: among its ends (degree-1 nodes) whose branch has a mean
-  //    radius ≥ half the component's largest such mean, the lowest; ties: wider, then left.
-  //    Without ends: its lowest node (ties: wider, then left).
-  const std::span<float> largest = *largest_s;
-  const std::span<node_id> trunks = access::trunks(out);
-  for (std::size_t c = 0; c < static_cast<std::size_t>(components); ++c) {
+/// Step 5 of `build_skeleton_graph`: the trunk node of each of the `trunks.size()` components
+/// (see there for the rule), marked in the graph. `largest`: scratch of one entry per
+/// component; `radii`: the pool the branches' radii were written to.
+inline void choose_trunks(skeleton_graph::topology_type& g, std::span<const float> radii,
+                          std::span<float> largest, std::span<node_id> trunks) noexcept {
+  for (std::size_t c = 0; c < trunks.size(); ++c) {
     largest[c] = -1.0f;
     trunks[c] = no_id;
   }
-  auto end_radius = [&](node_id v) {
+  auto end_radius = [&](node_id v) {  // the mean radius of an end's branch
     const edge_id e = *g.incident_edges(v).begin();
-    const detail::skeleton_edge_data& d = g.edge(e);
+    const skeleton_edge_data& d = g.edge(e);
     double sum = 0;
-    for (std::size_t i = 0; i < d.line.count; ++i) sum += static_cast<double>(rad[d.line.offset + i]);
+    for (std::size_t i = 0; i < d.line.count; ++i)
+      sum += static_cast<double>(radii[d.line.offset + i]);
     return d.line.count > 0 ? static_cast<float>(sum / static_cast<double>(d.line.count)) : 0.0f;
   };
   g.for_each_node([&](node_id v) {
@@ -579,8 +597,43 @@ template <BinaryView Skeleton>
     const float rb = has_ends ? end_radius(best) : g.node(best).radius_px;
     if (better(v, r, best, rb)) trunks[c] = v;
   });
-  for (std::size_t c = 0; c < static_cast<std::size_t>(components); ++c)
-    if (trunks[c] != no_id) g.node(trunks[c]).trunk = 1;
+  for (const node_id v : trunks)
+    if (v != no_id) g.node(v).trunk = 1;
+}
+
+/// Everything of `build_skeleton_graph` after the graph's storage is allocated, its five steps
+/// in order; `scratch` memory is drawn from `ws` and released by the caller.
+template <BinaryView Skeleton>
+[[nodiscard]] status trace_skeleton(const Skeleton& skeleton, image_view<const std::uint32_t> dist2,
+                                    const row_runs* runs, skeleton_graph& out,
+                                    workspace& ws) noexcept {
+  using access = skeleton_graph_access;
+  auto& g = access::topology(out);
+  const std::size_t n = access::skeleton_pixels(out);
+  const std::size_t node_cap = g.node_capacity();
+  auto pos = ws.allocate<pixel>(n);
+  auto mask = ws.allocate<std::uint8_t>(n);
+  auto path = ws.allocate<std::uint8_t>(n);
+  auto kind = ws.allocate<std::uint8_t>(n);
+  auto owner = ws.allocate<std::uint32_t>(n);
+  auto stack = ws.allocate<std::uint32_t>(n);
+  auto rows = ws.allocate<std::uint32_t>(2 * n);  // `above`, then `below`
+  auto radii = ws.allocate<float>(n);
+  auto parent = ws.allocate<std::int32_t>(node_cap);
+  auto number = ws.allocate<std::int32_t>(node_cap);
+  auto largest = ws.allocate<float>(node_cap);
+  PERCH_TRY(all_ok(pos, mask, path, kind, owner, stack, rows, radii, parent, number, largest));
+  const skeleton_pixel_table t{*pos,  *mask, *path, *kind, *owner, rows->first(n),
+                               rows->subspan(n), *radii};
+
+  index_skeleton_pixels(skeleton, dist2, runs, t);
+  PERCH_TRY(add_skeleton_nodes(g, t, *stack));
+  branch_writer w{access::points(out, 0), access::radii(out, 0)};
+  PERCH_TRY(trace_skeleton_branches(g, t, w));
+  const std::int32_t components = number_skeleton_components(g, t, *parent, *number);
+  access::components(out) = components;
+  choose_trunks(g, access::radii(out, 0), *largest,
+                access::trunks(out).first(static_cast<std::size_t>(components)));
   return {};
 }
 
@@ -639,19 +692,21 @@ template <BinaryView Skeleton>
 /// grown. Complexity: O(width × height / 32 + skeleton pixels).
 /// Implements §"Section into Branches" and §"Create Graph" of the paper, with junction clusters
 /// as single nodes and branches traced once (the paper's prototype doubled every length).
-/// (`within`: internal, see `detail::mask_runs`: the runs of the mask a built-in skeletoniser
-/// thinned, which contain the skeleton, so only they are scanned for its pixels.)
+/// `within` (the overload that takes it): row runs that contain every skeleton pixel, so only
+/// they are scanned for them: the runs of the mask the skeleton was thinned from, by a
+/// skeletoniser whose skeleton lies inside its mask (every `RowRunSkeletoniser`'s does). Runs
+/// of an image of another size are ignored (the skeleton is scanned); a skeleton pixel outside
+/// them would be missed.
 template <BinaryView Skeleton>
 [[nodiscard]] result<skeleton_graph> build_skeleton_graph(const Skeleton& skeleton,
                                                           image_view<const std::uint32_t> dist2,
                                                           workspace& ws,
-                                                          const graph_options& options = {},
-                                                          detail::mask_runs within = {}) noexcept {
+                                                          const graph_options& options,
+                                                          const row_runs& within) noexcept {
   PERCH_TRY(validate_non_empty(skeleton));
   PERCH_TRY(validate_non_empty(dist2));
   PERCH_TRY(same_size(skeleton, dist2));
-  const row_runs* runs =
-      within.runs != nullptr && within.runs->spans(skeleton) ? within.runs : nullptr;
+  const row_runs* runs = within.spans(skeleton) ? &within : nullptr;
   const std::size_t n = detail::count_set_pixels(skeleton, runs);
   const std::size_t node_cap = options.max_nodes != 0 ? options.max_nodes : n;
   const std::size_t edge_cap = options.max_branches != 0 ? options.max_branches : n;
@@ -678,6 +733,15 @@ template <BinaryView Skeleton>
   ws.rewind(scratch);
   PERCH_TRY(all_ok(traced));
   return result<skeleton_graph>(std::move(out));
+}
+
+/// `build_skeleton_graph` scanning the whole skeleton for its pixels.
+template <BinaryView Skeleton>
+[[nodiscard]] result<skeleton_graph> build_skeleton_graph(const Skeleton& skeleton,
+                                                          image_view<const std::uint32_t> dist2,
+                                                          workspace& ws,
+                                                          const graph_options& options = {}) noexcept {
+  return build_skeleton_graph(skeleton, dist2, ws, options, row_runs{});
 }
 
 }  // namespace perch

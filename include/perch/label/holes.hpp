@@ -32,6 +32,102 @@ struct gap_ref {
   std::int32_t row;
 };
 
+
+/// What a gap is to `fill_small_holes`: not yet seen, queued by the current search, leading
+/// outside (or into more than the largest area), or part of a small hole.
+enum class gap_state : std::uint8_t { unseen = 0, queued = 1, outside = 2, hole = 3 };
+
+/// The breadth-first searches of `fill_small_holes` over touching gaps. Gap j is the one
+/// before run j of its row (not the row's first run).
+struct gap_search {
+  const row_runs& runs;
+  int h;
+  gap_state* state;      ///< per run: its gap's state
+  gap_ref* queue;        ///< the gaps the current search queued
+  std::uint32_t* hint;   ///< per row: where its last look-up ended
+  const row_run* base;   ///< the first run of the list
+  std::size_t count = 0; ///< gaps queued by the current search
+
+  [[nodiscard]] std::uint32_t index(const row_run& r) const noexcept {
+    return static_cast<std::uint32_t>(&r - base);
+  }
+  [[nodiscard]] std::int64_t width(std::uint32_t j) const noexcept {
+    return std::int64_t{base[j].begin} - base[j - 1].end;
+  }
+
+  /// Queues the gaps of row `y` that share a column with [b, e); false when one of them is
+  /// outside or known to lead there.
+  [[nodiscard]] bool touch(int y, int b, int e) noexcept {
+    const bool edge_row = y == 0 || y == h - 1;  // its gaps are outside
+    const std::span<const row_run> r = runs.row(y);
+    // The first run that starts right of b, walked to from this row's last look-up: the gaps
+    // before it, and on while they start left of e.
+    std::size_t i = std::min<std::size_t>(hint[y], r.size());
+    while (i > 0 && r[i - 1].begin > b) --i;
+    while (i < r.size() && r[i].begin <= b) ++i;
+    hint[y] = static_cast<std::uint32_t>(i);
+    if (i == 0) return false;  // the gap before the row's first run
+    for (; i < r.size() && r[i - 1].end < e; ++i) {
+      if (edge_row) return false;
+      const std::uint32_t g = index(r[i]);
+      if (state[g] == gap_state::outside) return false;
+      if (state[g] == gap_state::unseen) {
+        state[g] = gap_state::queued;
+        queue[count++] = gap_ref{g, y};
+      }
+    }
+    return !(i == r.size() && r[i - 1].end < e);  // the gap after the row's last run
+  }
+
+  /// The search from gap `start` of row `y`: the hole's area when the gaps it reaches make a
+  /// hole of at most `max_area` pixels, else -1; marks every gap it queued.
+  [[nodiscard]] std::int64_t search(std::uint32_t start, int y, std::int64_t max_area) noexcept {
+    count = 0;
+    state[start] = gap_state::queued;
+    queue[count++] = gap_ref{start, y};
+    std::int64_t area = 0;
+    bool small = true;
+    for (std::size_t at = 0; at < count && small; ++at) {
+      const gap_ref g = queue[at];
+      area += width(g.run);
+      const int b = base[g.run - 1].end;
+      const int e = base[g.run].begin;
+      small = area <= max_area && touch(g.row - 1, b, e) && touch(g.row + 1, b, e);
+    }
+    for (std::size_t at = 0; at < count; ++at)
+      state[queue[at].run] = small ? gap_state::hole : gap_state::outside;
+    return small ? area : -1;
+  }
+};
+
+/// Fills the gaps marked `hole` in `mask`, and joins each row's runs across them, in place:
+/// the runs move down to where the joined runs before them end (each is read before anything
+/// is written there).
+inline void fill_and_join(image_view<std::uint8_t> mask, row_runs& runs,
+                          const gap_state* state) noexcept {
+  const int h = mask.height();
+  const row_run* const base = runs.row(0).data();
+  std::size_t out = 0;
+  for (int y = 0; y < h; ++y) {
+    const std::span<const row_run> r = runs.row(y);
+    std::uint8_t* row = &mask(0, y);
+    const std::size_t first = out;
+    int previous_end = 0;
+    for (std::size_t k = 0; k < r.size(); ++k) {
+      const row_run run = r[k];
+      if (k > 0 && state[&r[k] - base] == gap_state::hole) {
+        std::memset(row + previous_end, 1, static_cast<std::size_t>(run.begin - previous_end));
+        run_list_joiner::extend_last(runs, out, run.end);
+      } else {
+        run_list_joiner::put(runs, out++, run);
+      }
+      previous_end = run.end;
+    }
+    run_list_joiner::set_row_start(runs, y, first);
+  }
+  run_list_joiner::set_row_start(runs, h, out);
+}
+
 }  // namespace detail
 
 /// Bytes `fill_small_holes` takes from the workspace for a mask of `height` rows and `runs`
@@ -79,96 +175,28 @@ struct gap_ref {
   hole_fill_report report;
   if (total == 0) return report;
   const auto entry = ws.mark();
-  auto state_memory = ws.allocate_zeroed<std::uint8_t>(total);
-  auto queue_memory = ws.allocate<detail::gap_ref>(total);
-  auto hint_memory = ws.allocate_zeroed<std::uint32_t>(static_cast<std::size_t>(h));
-  if (!state_memory || !queue_memory || !hint_memory) {
+  auto state = ws.allocate_zeroed<detail::gap_state>(total);
+  auto queue = ws.allocate<detail::gap_ref>(total);
+  auto hint = ws.allocate_zeroed<std::uint32_t>(static_cast<std::size_t>(h));
+  if (auto ok = all_ok(state, queue, hint); !ok) {
     ws.rewind(entry);
-    return unexpected{!state_memory   ? state_memory.error()
-                      : !queue_memory ? queue_memory.error()
-                                      : hint_memory.error()};
+    return unexpected{ok.error()};
   }
-  // Gap j (before run j of its row, not the row's first run): not yet seen, queued by the
-  // current search, leading outside (or into more than max_area), or part of a small hole.
-  enum : std::uint8_t { unseen = 0, queued = 1, outside = 2, hole = 3 };
-  std::uint8_t* state = state_memory->data();
-  detail::gap_ref* queue = queue_memory->data();
-  std::uint32_t* hint = hint_memory->data();
-  const row_run* const base = runs.row(0).data();
-  auto index = [base](const row_run& r) { return static_cast<std::uint32_t>(&r - base); };
-  auto width = [base](std::uint32_t j) { return std::int64_t{base[j].begin} - base[j - 1].end; };
-
-  // Queues the gaps of row `y` that share a column with [b, e); false when one of them is
-  // outside or known to lead there.
-  std::size_t count = 0;
-  auto touch = [&](int y, int b, int e) {
-    const bool edge_row = y == 0 || y == h - 1;  // its gaps are outside
-    const std::span<const row_run> r = runs.row(y);
-    // The first run that starts right of b, walked to from this row's last look-up: the gaps
-    // before it, and on while they start left of e.
-    std::size_t i = std::min<std::size_t>(hint[y], r.size());
-    while (i > 0 && r[i - 1].begin > b) --i;
-    while (i < r.size() && r[i].begin <= b) ++i;
-    hint[y] = static_cast<std::uint32_t>(i);
-    if (i == 0) return false;  // the gap before the row's first run
-    for (; i < r.size() && r[i - 1].end < e; ++i) {
-      if (edge_row) return false;
-      const std::uint32_t g = index(r[i]);
-      if (state[g] == outside) return false;
-      if (state[g] == unseen) {
-        state[g] = queued;
-        queue[count++] = detail::gap_ref{g, y};
-      }
-    }
-    return !(i == r.size() && r[i - 1].end < e);  // the gap after the row's last run
-  };
-
+  detail::gap_search gaps{runs, h, state->data(), queue->data(), hint->data(),
+                          runs.row(0).data()};
   for (int y = 1; y + 1 < h; ++y) {
     const std::span<const row_run> r = runs.row(y);
     for (std::size_t k = 1; k < r.size(); ++k) {
-      const std::uint32_t start = index(r[k]);
-      if (state[start] != unseen || width(start) > max_area) continue;
-      count = 0;
-      state[start] = queued;
-      queue[count++] = detail::gap_ref{start, y};
-      std::int64_t area = 0;
-      bool small = true;
-      for (std::size_t at = 0; at < count && small; ++at) {
-        const detail::gap_ref g = queue[at];
-        area += width(g.run);
-        const int b = base[g.run - 1].end;
-        const int e = base[g.run].begin;
-        small = area <= max_area && touch(g.row - 1, b, e) && touch(g.row + 1, b, e);
-      }
-      for (std::size_t at = 0; at < count; ++at) state[queue[at].run] = small ? hole : outside;
-      if (!small) continue;
+      const std::uint32_t start = gaps.index(r[k]);
+      if (gaps.state[start] != detail::gap_state::unseen || gaps.width(start) > max_area)
+        continue;
+      const std::int64_t area = gaps.search(start, y, max_area);
+      if (area < 0) continue;
       ++report.filled;
       report.filled_pixels += area;
     }
   }
-  if (report.filled > 0) {
-    // Fill, and join each row's runs across the filled gaps, in place: the runs move down to
-    // where the joined runs before them end (each is read before anything is written there).
-    std::size_t out = 0;
-    for (int y = 0; y < h; ++y) {
-      const std::span<const row_run> r = runs.row(y);
-      std::uint8_t* row = &mask(0, y);
-      const std::size_t first = out;
-      int previous_end = 0;
-      for (std::size_t k = 0; k < r.size(); ++k) {
-        const row_run run = r[k];
-        if (k > 0 && state[index(r[k])] == hole) {
-          std::memset(row + previous_end, 1, static_cast<std::size_t>(run.begin - previous_end));
-          detail::run_list_joiner::extend_last(runs, out, run.end);
-        } else {
-          detail::run_list_joiner::put(runs, out++, run);
-        }
-        previous_end = run.end;
-      }
-      detail::run_list_joiner::set_row_start(runs, y, first);
-    }
-    detail::run_list_joiner::set_row_start(runs, h, out);
-  }
+  if (report.filled > 0) detail::fill_and_join(mask, runs, state->data());
   ws.rewind(entry);
   return report;
 }

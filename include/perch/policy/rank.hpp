@@ -62,6 +62,94 @@ struct ranking {
   std::uint32_t viable = 0;   ///< windows that passed every constraint
 };
 
+namespace detail {
+
+/// A viable window: its penalty and its index among the windows.
+struct ranking_candidate {
+  float penalty;
+  std::uint32_t index;
+};
+
+/// Checks every window against every leaf of `constraints` (the geometric ones first; the
+/// clearance ones only when those all pass, with the context `make_context(m)` built once, on
+/// the first clearance query): a viable window is scored into `candidates`, any other counted
+/// against the first constraint it fails, and kept in `misses` when it failed only that one
+/// and by less than the window kept there. Returns the number of viable windows. (One loop:
+/// the checks stay inlined in it.)
+template <Constraint C, Scorer S, class MakeContext>
+[[nodiscard]] std::size_t judge_windows(std::span<const window_measures> windows,
+                                        const C& constraints, const S& scorer,
+                                        MakeContext& make_context,
+                                        std::span<ranking_candidate> candidates,
+                                        std::span<rejection_count> rejections,
+                                        std::span<near_miss> misses) noexcept {
+  std::size_t viable = 0;
+  for (std::size_t w = 0; w < windows.size(); ++w) {
+    const window_measures& m = windows[w];
+    std::size_t failed = 0;
+    std::size_t first_failed = leaf_count<C>;
+    float first_miss = 0;
+    auto note = [&](std::size_t leaf, float miss) {
+      if (!(miss <= 0)) {  // NaN counts as a failure
+        if (failed++ == 0) {
+          first_failed = leaf;
+          first_miss = miss;
+        }
+      }
+    };
+    for_each_leaf(constraints, [&](const auto& leaf, std::size_t i) {
+      if constexpr (GeometricConstraint<std::remove_cvref_t<decltype(leaf)>>) note(i, leaf(m));
+    });
+    if (failed == 0) {
+      std::optional<window_context> context;
+      for_each_leaf(constraints, [&](const auto& leaf, std::size_t i) {
+        using leaf_type = std::remove_cvref_t<decltype(leaf)>;
+        if constexpr (!GeometricConstraint<leaf_type> && ContextConstraint<leaf_type>) {
+          if (!context) context.emplace(make_context(m));
+          note(i, leaf(m, *context));
+        }
+      });
+    }
+    if (failed == 0) {
+      candidates[viable++] = {static_cast<float>(scorer(m)), static_cast<std::uint32_t>(w)};
+      continue;
+    }
+    ++rejections[first_failed].windows;
+    near_miss& best = misses[first_failed];
+    if (failed == 1 && (!best.present || first_miss < best.miss)) {
+      best.miss = first_miss;
+      best.window = m;
+      best.present = true;
+    }
+  }
+  return viable;
+}
+
+/// The best of `candidates` (sorted) whose centres are at least `separation_mm` apart, into
+/// `sites` (as many as fit); returns how many.
+inline std::size_t choose_distinct_sites(std::span<const window_measures> windows,
+                                         std::span<const ranking_candidate> candidates,
+                                         float separation_mm, std::span<perch_site> sites) noexcept {
+  std::size_t chosen = 0;
+  for (std::size_t c = 0; c < candidates.size() && chosen < sites.size(); ++c) {
+    const window_measures& m = windows[candidates[c].index];
+    bool distinct = true;
+    for (std::size_t s = 0; s < chosen && distinct; ++s) {
+      const window_measures& o = sites[s].window;
+      const float dx = static_cast<float>(m.centre.x - o.centre.x);
+      const float dy = static_cast<float>(m.centre.y - o.centre.y);
+      const float mm = std::sqrt(dx * dx + dy * dy) * 0.5f * (m.mm_per_px + o.mm_per_px);
+      distinct = mm >= separation_mm;
+    }
+    if (!distinct) continue;
+    sites[chosen] = {m, candidates[c].penalty, static_cast<std::uint32_t>(chosen)};
+    ++chosen;
+  }
+  return chosen;
+}
+
+}  // namespace detail
+
 /// Checks every window of `windows` against `constraints`, scores the viable ones with `scorer`,
 /// and returns the `top_k` lowest penalties whose centres are at least `site_separation_mm`
 /// apart. Ties break by branch, then window start: deterministic.
@@ -82,80 +170,23 @@ template <Constraint C, Scorer S, class MakeContext>
     (*rejections)[i] = {leaf_type::name, leaf_type::unit, 0};
     (*misses)[i] = {leaf_type::name, leaf_type::unit, 0, {}, false};
   });
-
-  struct candidate {
-    float penalty;
-    std::uint32_t index;
-  };
-  auto candidates = ws.allocate<candidate>(windows.size());
+  auto candidates = ws.allocate<detail::ranking_candidate>(windows.size());
   PERCH_TRY(all_ok(candidates));
-  std::size_t viable = 0;
-
-  for (std::size_t w = 0; w < windows.size(); ++w) {
-    const window_measures& m = windows[w];
-    std::size_t failed = 0;
-    std::size_t first_failed = leaves;
-    float first_miss = 0;
-    auto note = [&](std::size_t leaf, float miss) {
-      if (!(miss <= 0)) {  // NaN counts as a failure
-        if (failed++ == 0) {
-          first_failed = leaf;
-          first_miss = miss;
-        }
-      }
-    };
-    for_each_leaf(constraints, [&](const auto& leaf, std::size_t i) {
-      if constexpr (GeometricConstraint<std::remove_cvref_t<decltype(leaf)>>) note(i, leaf(m));
-    });
-    if (failed == 0) {
-      std::optional<window_context> context;  // built once, on the first clearance query
-      for_each_leaf(constraints, [&](const auto& leaf, std::size_t i) {
-        using leaf_type = std::remove_cvref_t<decltype(leaf)>;
-        if constexpr (!GeometricConstraint<leaf_type> && ContextConstraint<leaf_type>) {
-          if (!context) context.emplace(make_context(m));
-          note(i, leaf(m, *context));
-        }
-      });
-    }
-    if (failed == 0) {
-      (*candidates)[viable++] = {static_cast<float>(scorer(m)), static_cast<std::uint32_t>(w)};
-      continue;
-    }
-    ++(*rejections)[first_failed].windows;
-    near_miss& best = (*misses)[first_failed];
-    if (failed == 1 && (!best.present || first_miss < best.miss)) {
-      best.miss = first_miss;
-      best.window = m;
-      best.present = true;
-    }
-  }
+  const std::size_t viable = detail::judge_windows(windows, constraints, scorer, make_context,
+                                                  *candidates, *rejections, *misses);
 
   std::sort(candidates->begin(), candidates->begin() + static_cast<std::ptrdiff_t>(viable),
-            [&windows](const candidate& a, const candidate& b) {
+            [&windows](const detail::ranking_candidate& a, const detail::ranking_candidate& b) {
               if (a.penalty != b.penalty) return a.penalty < b.penalty;
               const window_measures& wa = windows[a.index];
               const window_measures& wb = windows[b.index];
               if (wa.limb != wb.limb) return wa.limb < wb.limb;
               return wa.first < wb.first;
             });
-
   auto sites = ws.allocate<perch_site>(std::min(options.top_k, viable));
   PERCH_TRY(all_ok(sites));
-  std::size_t chosen = 0;
-  for (std::size_t c = 0; c < viable && chosen < sites->size(); ++c) {
-    const window_measures& m = windows[(*candidates)[c].index];
-    bool distinct = true;
-    for (std::size_t s = 0; s < chosen && distinct; ++s) {
-      const window_measures& o = (*sites)[s].window;
-      const float dx = static_cast<float>(m.centre.x - o.centre.x);
-      const float dy = static_cast<float>(m.centre.y - o.centre.y);
-      const float mm = std::sqrt(dx * dx + dy * dy) * 0.5f * (m.mm_per_px + o.mm_per_px);
-      distinct = mm >= options.site_separation_mm;
-    }
-    if (!distinct) continue;
-    (*sites)[chosen] = {m, (*candidates)[c].penalty, static_cast<std::uint32_t>(chosen)};
-    ++chosen;
-  }
+  const std::size_t chosen = detail::choose_distinct_sites(
+      windows, candidates->first(viable), options.site_separation_mm, *sites);
   ranking out;
   out.sites = sites->first(chosen);
   out.rejections = *rejections;

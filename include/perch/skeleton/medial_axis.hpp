@@ -102,14 +102,20 @@ struct medial_axis {
     return peel > clean_up ? peel : clean_up;
   }
 
-  /// (`listed`: internal, see `detail::mask_runs`.)
+  [[nodiscard]] status operator()(image_view<const std::uint8_t> mask,
+                                  image_view<const std::uint32_t> dist2,
+                                  image_view<std::uint8_t> skeleton, workspace& ws) const noexcept {
+    return (*this)(mask, dist2, skeleton, ws, row_runs{});
+  }
+  /// With the row runs of `mask` (see `RowRunSkeletoniser`): the same skeleton, the border
+  /// pixels and keys found from the runs, and the clean-up scanning only them.
   [[nodiscard]] status operator()(image_view<const std::uint8_t> mask,
                                   image_view<const std::uint32_t> dist2,
                                   image_view<std::uint8_t> skeleton, workspace& ws,
-                                  detail::mask_runs listed = {}) const noexcept {
+                                  const row_runs& runs) const noexcept {
     PERCH_TRY(detail::validate_skeleton_views(mask, dist2, skeleton));
     const auto entry = ws.mark();
-    const status s = run(mask, dist2, skeleton, ws, detail::runs_of(listed, mask));
+    const status s = run(mask, dist2, skeleton, ws, detail::runs_of(&runs, mask));
     ws.rewind(entry);
     return s;
   }
@@ -274,18 +280,53 @@ struct medial_axis {
     }
     const std::uint32_t* keys = copy;
     if constexpr (!Distances::copied) keys = distances.d;
-    // One pass over the runs: the keys counted (into fill[k + 1]; copied, packed if need be)
-    // and the border pixels listed in raster order (in `ring`, for now): each run's two ends,
-    // and between them the pixels below or above background.
-    // The packed copy is read at the tree pixels and their neighbours only: around a run, the
-    // row below is zeroed (its runs come later), the row above where it is background, the
-    // two ends, and then the run's own cells are filled.
-    std::uint32_t top_key = 0;
-    std::size_t border = 0;
+    key_census<Distances> census{distances, keys, copy, cell, fill, ring, cells, img.stride, cap};
     fill[0] = 0;
     fill[1] = 0;
-    const std::ptrdiff_t s = img.stride;
-    auto count_run = [&](std::ptrdiff_t first, std::ptrdiff_t end) {
+    if (img.runs != nullptr && cell != nullptr)
+      census_from_runs(img, census);
+    else
+      census_from_image(img, census);
+    const std::uint32_t top_key = census.top_key;
+    auto start_memory = ws.allocate<std::uint32_t>(std::size_t{top_key} + 1);
+    PERCH_TRY(all_ok(start_memory));
+    std::uint32_t* start = start_memory->data();  // per key: the beginning of its slice
+    for (std::uint32_t k = 0; k <= top_key; ++k) {
+      fill[k + 1] += fill[k];
+      start[k] = fill[k];
+    }
+    const slices queue{fill, start, order, ring, ring_size, top_key};
+    if (cell == nullptr) {
+      drain(in_image{px, img.stride, keys, cap}, img, queue, census.border);
+      return {};
+    }
+    drain(packed<Distances>{cell, img.stride, distances, cap}, img, queue, census.border);
+    copy_back_packed(img, cell, cells);
+    return {};
+  }
+
+  /// The first pass of `peel`, one run at a time: the keys counted (into fill[k + 1]; copied,
+  /// packed if need be) and the border pixels listed in raster order (in `ring`, for now):
+  /// each run's two ends, and between them the pixels below or above background.
+  /// The packed copy is read at the tree pixels and their neighbours only: around a run, the
+  /// row below is zeroed (its runs come later), the row above where it is background, the
+  /// two ends, and then the run's own cells are filled.
+  template <class Distances>
+  struct key_census {
+    Distances distances;
+    const std::uint32_t* keys;  ///< the distances by index (when not copied)
+    std::uint32_t* copy;        ///< the distances copied by index, or null
+    std::uint16_t* cell;        ///< the packed copy, or null
+    std::uint32_t* fill;
+    std::uint32_t* ring;
+    std::size_t cells;
+    std::ptrdiff_t s;  ///< the working image's stride
+    std::uint32_t cap;
+    std::uint32_t top_key = 0;
+    std::size_t border = 0;
+
+    /// Counts the keys of the run [first, end) and lists its first pixel.
+    void count_run(std::ptrdiff_t first, std::ptrdiff_t end) noexcept {
       const std::uint32_t* d = distances.run(first);
       // Fetched ahead (the runs a few rows down lie mostly under this one): the distances two
       // rows down, read by index, and the packed cells three rows down, first written from
@@ -332,73 +373,78 @@ struct medial_axis {
       std::uint32_t* const count = fill + 1;
       for (std::ptrdiff_t j = 0; j < n; ++j) ++count[key_of(d[j], c)];
       ring[border++] = static_cast<std::uint32_t>(first);
-    };
-    auto list_last = [&](std::ptrdiff_t first, std::ptrdiff_t end) {
-      if (end - 1 > first) ring[border++] = static_cast<std::uint32_t>(end - 1);
-    };
-    if (img.runs != nullptr && cell != nullptr) {
-      // From the run lists: the background above a run and the pixels covered above and
-      // below are found from the runs of the rows next to it, without reading those rows
-      // (which, on an image large enough to be packed, are out of cache; on a byte image,
-      // small enough to stay in cache, reading them is faster).
-      const std::span<const row_run> none{};
-      for (int y = 0; y < img.height; ++y) {
-        const std::ptrdiff_t row = img.index(0, y);
-        detail::run_cursor above{y > 0 ? img.runs->row(y - 1) : none};
-        detail::run_cursor up{above.runs};
-        detail::run_cursor down{y + 1 < img.height ? img.runs->row(y + 1) : none};
-        for (const row_run r : img.runs->row(y)) {
-          const std::ptrdiff_t first = row + r.begin;
-          const std::ptrdiff_t end = row + r.end;
-          detail::for_each_gap(above, r.begin - 1, r.end + 1, [&](int from, int to) {
-            std::memset(cell + row - s + from, 0,
-                        sizeof *cell * static_cast<std::size_t>(to - from));
-          });
-          count_run(first, end);
-          detail::for_each_uncovered(up, down, r.begin + 1, r.end - 1, [&](int x) {
-            ring[border++] = static_cast<std::uint32_t>(row + x);
-          });
-          list_last(first, end);
-        }
+    }
+    void list(std::ptrdiff_t i) noexcept { ring[border++] = static_cast<std::uint32_t>(i); }
+    /// Lists the run's last pixel (unless it is its first).
+    void list_last(std::ptrdiff_t first, std::ptrdiff_t end) noexcept {
+      if (end - 1 > first) list(end - 1);
+    }
+  };
+
+  /// `key_census` from the run lists: the background above a run and the pixels covered
+  /// above and below are found from the runs of the rows next to it, without reading those
+  /// rows (which, on an image large enough to be packed, are out of cache; on a byte image,
+  /// small enough to stay in cache, reading them is faster).
+  template <class Distances>
+  static void census_from_runs(const detail::padded_image& img,
+                               key_census<Distances>& census) noexcept {
+    const std::ptrdiff_t s = img.stride;
+    std::uint16_t* const cell = census.cell;
+    const std::span<const row_run> none{};
+    for (int y = 0; y < img.height; ++y) {
+      const std::ptrdiff_t row = img.index(0, y);
+      detail::run_cursor above{y > 0 ? img.runs->row(y - 1) : none};
+      detail::run_cursor up{above.runs};
+      detail::run_cursor down{y + 1 < img.height ? img.runs->row(y + 1) : none};
+      for (const row_run r : img.runs->row(y)) {
+        const std::ptrdiff_t first = row + r.begin;
+        const std::ptrdiff_t end = row + r.end;
+        detail::for_each_gap(above, r.begin - 1, r.end + 1, [&](int from, int to) {
+          std::memset(cell + row - s + from, 0, sizeof *cell * static_cast<std::size_t>(to - from));
+        });
+        census.count_run(first, end);
+        detail::for_each_uncovered(up, down, r.begin + 1, r.end - 1,
+                                   [&](int x) { census.list(row + x); });
+        census.list_last(first, end);
       }
-    } else {
-      // From the working image: the rows above and below read eight pixels at a time.
-      detail::for_each_run(img, [&](std::ptrdiff_t first, std::ptrdiff_t end) {
-        if (cell != nullptr)
-          for (std::ptrdiff_t i = first - s - 1; i <= end - s; ++i)
-            cell[i] = static_cast<std::uint16_t>(cell[i] & (0u - (px[i] & 1u)));
-        count_run(first, end);
-        const std::ptrdiff_t last = end - 1;
-        std::ptrdiff_t i = first + 1;
-        for (; i + 8 <= last; i += 8) {
-          std::uint64_t up = 0, down = 0;
-          std::memcpy(&up, px + i - s, 8);
-          std::memcpy(&down, px + i + s, 8);
-          detail::for_each_set_byte(~(up & down) & 0x0101010101010101ull, [&](int k) {
-            ring[border++] = static_cast<std::uint32_t>(i + k);
-          });
-        }
-        for (; i < last; ++i)
-          if (((px[i - s] & px[i + s]) & 1u) == 0) ring[border++] = static_cast<std::uint32_t>(i);
-        list_last(first, end);
-      });
     }
-    auto start_memory = ws.allocate<std::uint32_t>(std::size_t{top_key} + 1);
-    PERCH_TRY(all_ok(start_memory));
-    std::uint32_t* start = start_memory->data();  // per key: the beginning of its slice
-    for (std::uint32_t k = 0; k <= top_key; ++k) {
-      fill[k + 1] += fill[k];
-      start[k] = fill[k];
-    }
-    const slices queue{fill, start, order, ring, ring_size, top_key};
-    if (cell == nullptr) {
-      drain(in_image{px, img.stride, keys, cap}, img, queue, border);
-      return {};
-    }
-    drain(packed<Distances>{cell, img.stride, distances, cap}, img, queue, border);
-    // The skeleton copied back, the cells two rows down fetched ahead as in the first pass;
-    // with the output not loaded, whole rows (zeros between the runs). (The pointers copied:
-    // a byte store could change them through a reference.)
+  }
+
+  /// `key_census` from the working image: the rows above and below read eight pixels at a
+  /// time.
+  template <class Distances>
+  static void census_from_image(const detail::padded_image& img,
+                                key_census<Distances>& census) noexcept {
+    const std::ptrdiff_t s = img.stride;
+    const std::uint8_t* const px = img.px;
+    std::uint16_t* const cell = census.cell;
+    detail::for_each_run(img, [&](std::ptrdiff_t first, std::ptrdiff_t end) {
+      if (cell != nullptr)
+        for (std::ptrdiff_t i = first - s - 1; i <= end - s; ++i)
+          cell[i] = static_cast<std::uint16_t>(cell[i] & (0u - (px[i] & 1u)));
+      census.count_run(first, end);
+      const std::ptrdiff_t last = end - 1;
+      std::ptrdiff_t i = first + 1;
+      for (; i + 8 <= last; i += 8) {
+        std::uint64_t up = 0, down = 0;
+        std::memcpy(&up, px + i - s, 8);
+        std::memcpy(&down, px + i + s, 8);
+        detail::for_each_set_byte(~(up & down) & 0x0101010101010101ull,
+                                  [&](int k) { census.list(i + k); });
+      }
+      for (; i < last; ++i)
+        if (((px[i - s] & px[i + s]) & 1u) == 0) census.list(i);
+      census.list_last(first, end);
+    });
+  }
+
+  /// The skeleton copied back from the packed copy, the cells two rows down fetched ahead as
+  /// in the first pass; with the output not loaded, whole rows (zeros between the runs).
+  static void copy_back_packed(const detail::padded_image& img, const std::uint16_t* cell,
+                               std::size_t cells) noexcept {
+    std::uint8_t* const px = img.px;
+    const std::ptrdiff_t s = img.stride;
+    // (The pointers copied: a byte store could change them through a reference.)
     auto copy_back = [px, cell, s, cells](std::ptrdiff_t first, std::ptrdiff_t end) {
       if (static_cast<std::size_t>(end + 2 * s) < cells)
         for (std::ptrdiff_t i = first + 2 * s; i < end + 2 * s; i += 32) detail::prefetch(cell + i);
@@ -406,7 +452,7 @@ struct medial_axis {
     };
     if (img.loaded) {
       detail::for_each_run(img, copy_back);
-      return {};
+      return;
     }
     for (int y = 0; y < img.height; ++y) {
       const std::ptrdiff_t row = img.index(0, y);
@@ -418,7 +464,6 @@ struct medial_axis {
       }
       std::memset(px + row + x, 0, static_cast<std::size_t>(img.width - x));
     }
-    return {};
   }
 
   /// The queue laid out by `peel`: per key, the slice start[k] … fill[k] of `order` (fill

@@ -114,12 +114,12 @@ inline status thin_two_subiterations(const neighbourhood_table* tables,
                                      image_view<const std::uint8_t> mask,
                                      image_view<const std::uint32_t> dist2,
                                      image_view<std::uint8_t> skeleton, workspace& ws,
-                                     thinness thin, mask_runs runs) noexcept {
+                                     thinness thin, const row_runs* runs) noexcept {
   const auto entry = ws.mark();
   auto loaded = load_padded(mask, ws);
   PERCH_TRY(all_ok(loaded));
   padded_image img = *loaded;
-  img.runs = runs_of(runs, mask);
+  img.runs = runs;
   const std::size_t n = padded_pixels(img.width, img.height) + 16;
   auto a_memory = ws.allocate<std::uint32_t>(n);
   auto b_memory = ws.allocate<std::uint32_t>(n);
@@ -206,14 +206,20 @@ struct two_subiteration_thinning {
     return detail::thinning_workspace_bytes(width, height);
   }
 
-  /// (`listed`: internal, see `detail::mask_runs`.)
+  [[nodiscard]] status operator()(image_view<const std::uint8_t> mask,
+                                  image_view<const std::uint32_t> dist2,
+                                  image_view<std::uint8_t> skeleton, workspace& ws) const noexcept {
+    return (*this)(mask, dist2, skeleton, ws, row_runs{});
+  }
+  /// With the row runs of `mask` (see `RowRunSkeletoniser`): the same skeleton, the first
+  /// candidates and the clean-up's blocks found from the runs.
   [[nodiscard]] status operator()(image_view<const std::uint8_t> mask,
                                   image_view<const std::uint32_t> dist2,
                                   image_view<std::uint8_t> skeleton, workspace& ws,
-                                  detail::mask_runs listed = {}) const noexcept {
+                                  const row_runs& runs) const noexcept {
     PERCH_TRY(detail::validate_skeleton_views(mask, dist2, skeleton));
     return detail::thin_two_subiterations(detail::gathered_tables<Rule>, mask, dist2, skeleton,
-                                          ws, thinness, listed);
+                                          ws, thinness, detail::runs_of(&runs, mask));
   }
 };
 

@@ -425,71 +425,61 @@ struct block_reroute {
   }
 };
 
-/// The one-pixel clean-up: removes every 2×2 block of skeleton pixels it can without changing
-/// the topology. In each block it deletes the simple pixel of smallest dist2 (ties: raster
-/// order); when no block pixel is simple (four branches meeting diagonally), it re-routes one
-/// branch: adds a neighbour q of a block pixel p, outside the block and inside the mask, whose
-/// addition is simple and creates no block, then deletes p if it is simple now. When neither
-/// step frees any block left, a second phase also tries `block_reroute` (a short sequence of
-/// simple changes around the block) on each; a skeleton the first phase cleans up completely
-/// is never touched by it. All steps are simple-pixel changes, so components and holes are
-/// kept; each step removes at least one block and adds none, so it terminates. Pixels next to
-/// every change are then swept for redundancy (simple non-end pixels are deleted), so the
-/// result is again irreducible.
-/// Returns the number of blocks left: 0 unless the mask is hardly wider than the skeleton
-/// around a block (noise masks). Some masks have no thin subset with their topology at all:
-/// four one-pixel holes diagonally round a 2×2 block, each closed by its four 4-neighbours
-/// and nothing more, force those neighbours, and any pixel taken out of the block is then a
-/// new hole. `queue` must have room for every pixel.
-inline std::size_t remove_blocks(const padded_image& img, image_view<const std::uint8_t> mask,
-                                 image_view<const std::uint32_t> dist2,
-                                 std::uint32_t* queue) noexcept {
-  const std::ptrdiff_t s = img.stride;
-  auto d2 = [&](std::ptrdiff_t i) {
+/// The state of `remove_blocks`' passes, and its steps on one block.
+struct block_cleanup {
+  const padded_image& img;
+  image_view<const std::uint8_t> mask;
+  image_view<const std::uint32_t> dist2;
+  std::uint32_t* queue;   ///< pixels next to a change, to sweep for redundancy
+  std::size_t seeded = 0;
+  std::size_t left = 0;   ///< blocks left in this pass
+  bool changed = false;   ///< whether this pass removed a block
+  bool deep = false;      ///< whether `block_reroute` may be tried
+
+  [[nodiscard]] std::uint32_t d2(std::ptrdiff_t i) const noexcept {
     const pixel p = img.position(i);
     return dist2(p.x, p.y);
-  };
-  auto is_block = [&](std::ptrdiff_t i) {
+  }
+  [[nodiscard]] bool is_block(std::ptrdiff_t i) const noexcept {
+    const std::ptrdiff_t s = img.stride;
     return ((img.px[i] & img.px[i + 1] & img.px[i + s] & img.px[i + s + 1]) & 1u) != 0;
-  };
-  auto in_mask = [&](std::ptrdiff_t i) {
+  }
+  [[nodiscard]] bool in_mask(std::ptrdiff_t i) const noexcept {
     const pixel p = img.position(i);
     return p.x >= 0 && p.y >= 0 && p.x < img.width && p.y < img.height && mask(p.x, p.y) != 0;
-  };
-  auto makes_block = [&](std::ptrdiff_t q) {
+  }
+  [[nodiscard]] bool makes_block(std::ptrdiff_t q) const noexcept {
+    const std::ptrdiff_t s = img.stride;
     return is_block(q) || is_block(q - 1) || is_block(q - s) || is_block(q - s - 1);
-  };
-  std::size_t rerouted = 0;
-  auto seed = [&](std::ptrdiff_t i) {
+  }
+  /// Queues skeleton pixel `i` for the redundancy sweep (once).
+  void seed(std::ptrdiff_t i) noexcept {
     if ((img.px[i] & 3u) != 1u) return;
     img.px[i] |= 2u;
-    queue[rerouted++] = static_cast<std::uint32_t>(i);
-  };
-  std::size_t left = 0;
-  bool changed = false;
-  bool deep = false;  // whether `block_reroute` may be tried
-  // Removes the block whose top-left pixel is i, or counts it as left.
-  auto unblock = [&](std::ptrdiff_t i) {
-    std::ptrdiff_t block[4] = {i, i + 1, i + s, i + s + 1};
-    // Order by dist2, then raster (insertion sort of four).
-    std::uint32_t key[4] = {d2(block[0]), d2(block[1]), d2(block[2]), d2(block[3])};
-    for (int k = 1; k < 4; ++k)
-      for (int j = k; j > 0 && key[j] < key[j - 1]; --j) {
-        std::swap(key[j], key[j - 1]);
-        std::swap(block[j], block[j - 1]);
-      }
-    bool done = false;
+    queue[seeded++] = static_cast<std::uint32_t>(i);
+  }
+  void seed_around(std::ptrdiff_t i) noexcept {
+    for (int j = 0; j < 8; ++j) seed(i + img.offset[j]);
+  }
+
+  /// First step on a block (its pixels ordered by dist2, then raster): deletes the first
+  /// simple one.
+  [[nodiscard]] bool delete_simple_pixel(const std::ptrdiff_t (&block)[4]) noexcept {
     for (const std::ptrdiff_t p : block) {
-      const unsigned c = img.code(p);
-      if (deletable_table[c]) {
-        img.px[p] = 0;
-        for (int j = 0; j < 8; ++j) seed(p + img.offset[j]);
-        done = true;
-        break;
-      }
+      if (!deletable_table[img.code(p)]) continue;
+      img.px[p] = 0;
+      seed_around(p);
+      return true;
     }
-    for (int k = 0; k < 4 && !done; ++k) {
-      const std::ptrdiff_t p = block[k];
+    return false;
+  }
+
+  /// Second step on the block whose top-left pixel is `i`: re-routes one branch, adding a
+  /// neighbour q of a block pixel p, outside the block and inside the mask, whose addition is
+  /// simple and creates no block, and deleting p, simple now.
+  [[nodiscard]] bool reroute_branch(std::ptrdiff_t i, const std::ptrdiff_t (&block)[4]) noexcept {
+    const std::ptrdiff_t s = img.stride;
+    for (const std::ptrdiff_t p : block) {
       // The 8-neighbours of p outside the block: its two 4-neighbours first.
       const int sx = (p == i || p == i + s) ? -1 : 1;
       const int sy = (p == i || p == i + 1) ? -1 : 1;
@@ -506,39 +496,56 @@ inline std::size_t remove_blocks(const padded_image& img, image_view<const std::
             seed(q + img.offset[j]);
             seed(p + img.offset[j]);
           }
-          done = true;
-          break;
+          return true;
         }
         img.px[q] = 0;
       }
     }
-    if (!done && deep) {
-      block_reroute reroute(img, mask, i);
-      if (reroute.run()) {
-        for (int k = 0; k < reroute.steps; ++k) {
-          const std::ptrdiff_t q = reroute.changed[k];
-          seed(q);
-          for (int j = 0; j < 8; ++j) seed(q + img.offset[j]);
-        }
-        done = true;
-      }
+    return false;
+  }
+
+  /// Third step (second phase only): a `block_reroute` sequence.
+  [[nodiscard]] bool reroute_deeper(std::ptrdiff_t i) noexcept {
+    block_reroute reroute(img, mask, i);
+    if (!reroute.run()) return false;
+    for (int k = 0; k < reroute.steps; ++k) {
+      const std::ptrdiff_t q = reroute.changed[k];
+      seed(q);
+      seed_around(q);
     }
-    if (done) {
-      changed = true;
-      if (rerouted > 0) {
-        sweep_redundant(img, queue, rerouted);
-        rerouted = 0;
+    return true;
+  }
+
+  /// Removes the block whose top-left pixel is `i`, or counts it as left.
+  void unblock(std::ptrdiff_t i) noexcept {
+    const std::ptrdiff_t s = img.stride;
+    std::ptrdiff_t block[4] = {i, i + 1, i + s, i + s + 1};
+    // Order by dist2, then raster (insertion sort of four).
+    std::uint32_t key[4] = {d2(block[0]), d2(block[1]), d2(block[2]), d2(block[3])};
+    for (int k = 1; k < 4; ++k)
+      for (int j = k; j > 0 && key[j] < key[j - 1]; --j) {
+        std::swap(key[j], key[j - 1]);
+        std::swap(block[j], block[j - 1]);
       }
-    } else {
+    const bool done =
+        delete_simple_pixel(block) || reroute_branch(i, block) || (deep && reroute_deeper(i));
+    if (!done) {
       ++left;
+      return;
     }
-  };
-  // Visits the block corners x in [from, to − 1) of the row starting at index `row` (reads
-  // bytes from … to − 1 of it and of the row below), skipping 64, then 8 positions at a time
-  // where no block starts.
-  auto scan = [&](std::ptrdiff_t row, int from, int to) {
+    changed = true;
+    if (seeded > 0) {
+      sweep_redundant(img, queue, seeded);
+      seeded = 0;
+    }
+  }
+
+  /// Visits the block corners x in [from, to − 1) of the row starting at index `row` (reads
+  /// bytes from … to − 1 of it and of the row below), skipping 64, then 8 positions at a time
+  /// where no block starts.
+  void scan(std::ptrdiff_t row, int from, int to) noexcept {
     const std::uint8_t* r0 = img.px + row;
-    const std::uint8_t* r1 = r0 + s;
+    const std::uint8_t* r1 = r0 + img.stride;
     // Non-zero iff a block starts in [x0, x0 + 8·words) (reads x0 … x0 + 8·words of both rows).
     auto block_bits = [&](int x0, int words) {
       std::uint64_t any = 0;
@@ -566,28 +573,54 @@ inline std::size_t remove_blocks(const padded_image& img, image_view<const std::
       ++x;
       if (is_block(i)) unblock(i);
     }
-  };
+  }
+
+  /// One pass over the image's block corners.
+  void pass() noexcept {
+    changed = false;
+    left = 0;
+    for (int y = 0; y + 1 < img.height; ++y) {
+      const std::ptrdiff_t row = img.index(0, y);
+      if (img.runs != nullptr) {
+        for (const row_run r : img.runs->row(y))
+          scan(row, static_cast<int>(r.begin), static_cast<int>(r.end));
+      } else {
+        scan(row, 0, img.width);
+      }
+    }
+  }
+};
+
+/// The one-pixel clean-up: removes every 2×2 block of skeleton pixels it can without changing
+/// the topology. In each block it deletes the simple pixel of smallest dist2 (ties: raster
+/// order); when no block pixel is simple (four branches meeting diagonally), it re-routes one
+/// branch: adds a neighbour q of a block pixel p, outside the block and inside the mask, whose
+/// addition is simple and creates no block, then deletes p if it is simple now. When neither
+/// step frees any block left, a second phase also tries `block_reroute` (a short sequence of
+/// simple changes around the block) on each; a skeleton the first phase cleans up completely
+/// is never touched by it. All steps are simple-pixel changes, so components and holes are
+/// kept; each step removes at least one block and adds none, so it terminates. Pixels next to
+/// every change are then swept for redundancy (simple non-end pixels are deleted), so the
+/// result is again irreducible.
+/// Returns the number of blocks left: 0 unless the mask is hardly wider than the skeleton
+/// around a block (noise masks). Some masks have no thin subset with their topology at all:
+/// four one-pixel holes diagonally round a 2×2 block, each closed by its four 4-neighbours
+/// and nothing more, force those neighbours, and any pixel taken out of the block is then a
+/// new hole. `queue` must have room for every pixel.
+inline std::size_t remove_blocks(const padded_image& img, image_view<const std::uint8_t> mask,
+                                 image_view<const std::uint32_t> dist2,
+                                 std::uint32_t* queue) noexcept {
+  block_cleanup cleanup{img, mask, dist2, queue};
   // A block's top row has two skeleton pixels side by side, so it lies inside a run of the mask
   // (the skeleton stays inside the mask): only the runs are scanned when they are listed.
   // The deeper re-route only once the single steps are done with every block, so a skeleton
   // they clean up completely is the same as without it.
-  for (int phase = 0; phase < 2 && (phase == 0 || left > 0); ++phase) {
-    deep = phase == 1;
-    do {
-      changed = false;
-      left = 0;
-      for (int y = 0; y + 1 < img.height; ++y) {
-        const std::ptrdiff_t row = img.index(0, y);
-        if (img.runs != nullptr) {
-          for (const row_run r : img.runs->row(y))
-            scan(row, static_cast<int>(r.begin), static_cast<int>(r.end));
-        } else {
-          scan(row, 0, img.width);
-        }
-      }
-    } while (changed);
+  for (int phase = 0; phase < 2 && (phase == 0 || cleanup.left > 0); ++phase) {
+    cleanup.deep = phase == 1;
+    do cleanup.pass();
+    while (cleanup.changed);
   }
-  return left;
+  return cleanup.left;
 }
 
 /// Views checked the same way by every skeletoniser.
