@@ -121,55 +121,47 @@ inline void arc_lengths(std::span<const pixel> points, std::span<float> arc_px,
   }
 }
 
-/// Signed curvature κ (1/px) at every point of a centreline:
-/// κ = (ẋÿ − ẏẍ)/(ẋ² + ẏ²)^{3/2} (paper table 2), derivatives by central differences of step
-/// `stencil_px` over positions first smoothed by a moving average of half-width `stencil_px`,
-/// then κ itself smoothed by the same moving average. Indices are clamped at the ends.
-/// `scratch` needs 2·n floats. Complexity O(n).
-inline void curvature_profile(std::span<const pixel> points, std::span<float> curvature_px,
-                              std::span<float> scratch, curvature_options options = {}) noexcept {
+namespace detail {
+
+/// Index `i` clamped to [0, `last`].
+[[nodiscard]] inline std::size_t clamped_index(std::ptrdiff_t i, std::ptrdiff_t last) noexcept {
+  return static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(i, 0, last));
+}
+
+/// Step 1 of `curvature_profile`: moving average of positions (window 2h+1, clamped) into
+/// `sx`, `sy`, by running sums of the integer coordinates (exact).
+inline void smooth_positions(std::span<const pixel> points, std::ptrdiff_t h, std::span<float> sx,
+                             std::span<float> sy) noexcept {
   const std::size_t n = points.size();
-  PERCH_ASSERT(curvature_px.size() == n && scratch.size() >= 2 * n, "curvature_profile: sizes");
-  if (n == 0) return;
-  const std::ptrdiff_t h = std::max(1, options.stencil_px);
   const auto last = static_cast<std::ptrdiff_t>(n) - 1;
-  auto clamp = [last](std::ptrdiff_t i) {
-    return static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(i, 0, last));
-  };
-  std::span<float> sx = scratch.first(n);
-  std::span<float> sy = scratch.subspan(n, n);
   const auto count = static_cast<float>(2 * h + 1);
-  // The mean of sx over [c − h, c + h] with indices clamped, terms added in that order.
-  auto clamped_mean = [&](std::size_t i) {
-    const auto c = static_cast<std::ptrdiff_t>(i);
-    float acc = 0;
-    std::ptrdiff_t j = c - h;
-    for (; j < 0; ++j) acc += sx[0];
-    for (; j <= std::min(c + h, last); ++j) acc += sx[static_cast<std::size_t>(j)];
-    for (; j <= c + h; ++j) acc += sx[static_cast<std::size_t>(last)];
-    return acc / count;
-  };
-  // Moving average of positions (window 2h+1, clamped), by running sums of the integer
-  // coordinates (exact).
   std::int64_t ax = 0;
   std::int64_t ay = 0;
   for (std::ptrdiff_t k = -h; k <= h; ++k) {
-    ax += points[clamp(k)].x;
-    ay += points[clamp(k)].y;
+    ax += points[clamped_index(k, last)].x;
+    ay += points[clamped_index(k, last)].y;
   }
   for (std::size_t i = 0; i < n; ++i) {
     sx[i] = static_cast<float>(ax) / count;
     sy[i] = static_cast<float>(ay) / count;
     const auto c = static_cast<std::ptrdiff_t>(i);
-    const pixel leaving = points[clamp(c - h)];
-    const pixel entering = points[clamp(c + h + 1)];
+    const pixel leaving = points[clamped_index(c - h, last)];
+    const pixel entering = points[clamped_index(c + h + 1, last)];
     ax += entering.x - leaving.x;
     ay += entering.y - leaving.y;
   }
+}
+
+/// Step 2: κ at every point of the smoothed positions `sx`, `sy`, by central differences of
+/// step `h` (clamped at the ends).
+inline void curvature_of_smoothed(std::span<const float> sx, std::span<const float> sy,
+                                  std::ptrdiff_t h, std::span<float> curvature_px) noexcept {
+  const std::size_t n = sx.size();
+  const auto last = static_cast<std::ptrdiff_t>(n) - 1;
   for (std::size_t i = 0; i < n; ++i) {
     const auto c = static_cast<std::ptrdiff_t>(i);
-    const std::size_t lo = clamp(c - h);
-    const std::size_t hi = clamp(c + h);
+    const std::size_t lo = clamped_index(c - h, last);
+    const std::size_t hi = clamped_index(c + h, last);
     const auto span = static_cast<float>(hi - lo);
     if (span <= 0) {
       curvature_px[i] = 0;
@@ -189,8 +181,27 @@ inline void curvature_profile(std::span<const pixel> points, std::span<float> cu
     const float speed2 = dx * dx + dy * dy;
     curvature_px[i] = speed2 > 0 ? (dx * ddy - dy * ddx) / (speed2 * std::sqrt(speed2)) : 0.0f;
   }
-  // Moving average of κ (reuse sx as the copy). Each mean adds its window's terms in order;
-  // away from the ends four neighbouring means are summed side by side (independent chains).
+}
+
+/// Step 3: moving average of κ (window 2h+1, clamped), `copy` (n floats) holding κ's copy.
+/// Each mean adds its window's terms in order; away from the ends four neighbouring means are
+/// summed side by side (independent chains).
+inline void smooth_curvature(std::span<float> curvature_px, std::ptrdiff_t h,
+                             std::span<float> copy) noexcept {
+  const std::size_t n = curvature_px.size();
+  const auto last = static_cast<std::ptrdiff_t>(n) - 1;
+  const auto count = static_cast<float>(2 * h + 1);
+  std::span<float> sx = copy.first(n);
+  // The mean of sx over [c − h, c + h] with indices clamped, terms added in that order.
+  auto clamped_mean = [&](std::size_t i) {
+    const auto c = static_cast<std::ptrdiff_t>(i);
+    float acc = 0;
+    std::ptrdiff_t j = c - h;
+    for (; j < 0; ++j) acc += sx[0];
+    for (; j <= std::min(c + h, last); ++j) acc += sx[static_cast<std::size_t>(j)];
+    for (; j <= c + h; ++j) acc += sx[static_cast<std::size_t>(last)];
+    return acc / count;
+  };
   std::copy(curvature_px.begin(), curvature_px.end(), sx.begin());
   std::size_t i = 0;
   for (; i < n && static_cast<std::ptrdiff_t>(i) < h; ++i) curvature_px[i] = clamped_mean(i);
@@ -209,6 +220,25 @@ inline void curvature_profile(std::span<const pixel> points, std::span<float> cu
     curvature_px[i + 3] = a3 / count;
   }
   for (; i < n; ++i) curvature_px[i] = clamped_mean(i);
+}
+
+}  // namespace detail
+/// Signed curvature κ (1/px) at every point of a centreline:
+/// κ = (ẋÿ − ẏẍ)/(ẋ² + ẏ²)^{3/2} (paper table 2), derivatives by central differences of step
+/// `stencil_px` over positions first smoothed by a moving average of half-width `stencil_px`,
+/// then κ itself smoothed by the same moving average. Indices are clamped at the ends.
+/// `scratch` needs 2·n floats. Complexity O(n).
+inline void curvature_profile(std::span<const pixel> points, std::span<float> curvature_px,
+                              std::span<float> scratch, curvature_options options = {}) noexcept {
+  const std::size_t n = points.size();
+  PERCH_ASSERT(curvature_px.size() == n && scratch.size() >= 2 * n, "curvature_profile: sizes");
+  if (n == 0) return;
+  const std::ptrdiff_t h = std::max(1, options.stencil_px);
+  std::span<float> sx = scratch.first(n);
+  std::span<float> sy = scratch.subspan(n, n);
+  detail::smooth_positions(points, h, sx, sy);
+  detail::curvature_of_smoothed(sx, sy, h, curvature_px);
+  detail::smooth_curvature(curvature_px, h, sx);  // reuse sx as the copy
 }
 
 /// Unit tangent of a centreline at every point, oriented from the first point to the last: the

@@ -99,6 +99,153 @@ template <class OwnAt>
   return out;
 }
 
+namespace detail {
+
+/// Squared distance (px²) between two pixels.
+[[nodiscard]] inline float distance2_px(pixel a, pixel c) noexcept {
+  const float dx = static_cast<float>(a.x - c.x);
+  const float dy = static_cast<float>(a.y - c.y);
+  return dx * dx + dy * dy;
+}
+
+/// A branch's points walked from one end, as `outside_junctions` trims them: `at(k)` is the
+/// k-th point walked from the node there (point `index(k)`), `limit` the points it may trim.
+template <class Index>
+struct walked_points {
+  const skeleton_branch& b;
+  Index index;
+  std::size_t limit;
+  [[nodiscard]] pixel at(std::size_t k) const noexcept { return b.points[index(k)]; }
+  [[nodiscard]] float radius(std::size_t k) const noexcept { return b.radius_px[index(k)]; }
+};
+template <class Index>
+walked_points(const skeleton_branch&, Index, std::size_t) -> walked_points<Index>;
+
+/// The other limbs at a junction (`limb_at_junction`), at most eight.
+struct junction_limbs {
+  static constexpr std::size_t max_limbs = 8;
+  junction_limb limbs[max_limbs];
+  std::size_t count = 0;
+};
+
+/// Points trimmed at a tip: the round cap, the points within their own radius (arc length) of
+/// the end.
+template <class Index>
+[[nodiscard]] std::size_t trim_tip_cap(const walked_points<Index>& w) noexcept {
+  std::size_t k = 0;
+  float arc = 0;
+  while (k < w.limit && arc < w.radius(k)) {
+    ++k;
+    if (k < w.limit) arc += std::sqrt(distance2_px(w.at(k), w.at(k - 1)));
+  }
+  return k;
+}
+
+/// The other limbs at junction `id` (`node`) as seen from the walked branch, based within
+/// `reach` of the node.
+template <class Index>
+[[nodiscard]] junction_limbs limbs_around(const skeleton_graph& graph, node_id id,
+                                          const skeleton_node& node, const walked_points<Index>& w,
+                                          float reach) noexcept {
+  junction_limbs out;
+  auto at = [&](std::size_t k) { return w.at(k); };
+  for (const incidence in : graph.topology().incidences(id)) {
+    if (in.edge == w.b.id || out.count == junction_limbs::max_limbs) continue;
+    out.limbs[out.count++] =
+        limb_at_junction(graph.branch(in.edge), in.direction, node, at, w.limit, reach);
+  }
+  return out;
+}
+
+/// Whether point `p` of branch `own` lies inside junction `id` (`node`): inside the node's disc,
+/// within radius + `junction_gap_px` of another limb there extended straight back (`limbs`), or
+/// inside the inscribed disc of a point of another branch there.
+[[nodiscard]] inline bool inside_junction(const skeleton_graph& graph, edge_id own, node_id id,
+                                          const skeleton_node& node, const junction_limbs& limbs,
+                                          pixel p) noexcept {
+  const float to_node2 = distance2_px(p, node.position);
+  if (to_node2 < node.radius_px * node.radius_px) return true;
+  const point2f q = to_point(p);
+  for (std::size_t l = 0; l < limbs.count; ++l) {
+    const junction_limb& L = limbs.limbs[l];
+    if (!L.valid) continue;
+    const float t = std::max(0.0f, L.direction.dot(q - L.base));
+    const float r = L.radius_px + junction_gap_px;
+    if ((q - (L.base + t * L.direction)).squaredNorm() < r * r) return true;
+  }
+  // Points of the other branches within reach of p, walked from the junction outward.
+  const float near = std::sqrt(to_node2) + 2.0f * node.radius_px + 1.0f;
+  for (const incidence in : graph.topology().incidences(id)) {
+    if (in.edge == own) continue;
+    const skeleton_branch other = graph.branch(in.edge);
+    const std::size_t count = other.points.size();
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t i = in.direction == traversal::forward ? k : count - 1 - k;
+      const pixel o = other.points[i];
+      if (distance2_px(o, node.position) > near * near) break;
+      if (distance2_px(p, o) < other.radius_px[i] * other.radius_px[i]) return true;
+    }
+  }
+  return false;
+}
+
+/// Points trimmed at a narrow fork, `k` (< `w.limit`) points already clear of the junction:
+/// walked back from the node, the radius falls to a waist where the thinner limbs meet the
+/// parent (the true fork) and rises to the parent's again. So when this branch is the parent (no
+/// other limb there is thicker) and such a waist (a smoothed radius `waist_drop_px` below the
+/// trimmed end's and the mean of the 8 points beyond it) lies within reach, the branch is
+/// trimmed to it and on by the waist's radius + `junction_gap_px`, where the limbs' surfaces
+/// are. (On a thinner branch, the radius noise near a wide node looks like a waist and would
+/// cut good centreline.) Otherwise `k`.
+template <class Index>
+[[nodiscard]] std::size_t trim_to_waist(const walked_points<Index>& w, const skeleton_node& node,
+                                        const junction_limbs& limbs, float reach,
+                                        std::size_t k) noexcept {
+  const std::size_t limit = w.limit;
+  auto smoothed = [&](std::size_t j) {  // mean radius of points j - 1 … j + 1
+    const std::size_t lo = j > 0 ? j - 1 : 0, hi = std::min(j + 1, limit - 1);
+    float sum = 0;
+    for (std::size_t q = lo; q <= hi; ++q) sum += w.radius(q);
+    return sum / static_cast<float>(hi - lo + 1);
+  };
+  float widest = 0;  // the thickest other limb at the junction
+  for (std::size_t l = 0; l < limbs.count; ++l)
+    if (limbs.limbs[l].valid) widest = std::max(widest, limbs.limbs[l].radius_px);
+  if (smoothed(k) < widest) return k;
+  std::size_t waist = k;
+  for (std::size_t j = k; j < limit && distance2_px(w.at(j), node.position) <= reach * reach; ++j)
+    if (smoothed(j) <= smoothed(waist)) waist = j;
+  float beyond = 0;
+  std::size_t count = 0;
+  for (std::size_t j = waist + 2; j < limit && j < waist + 10; ++j, ++count)
+    beyond += w.radius(j);
+  const float rim = smoothed(waist) + waist_drop_px;
+  if (count < 4 || beyond < rim * static_cast<float>(count) || smoothed(k) < rim) return k;
+  const float clear = w.radius(waist) + junction_gap_px;
+  float arc = 0;
+  while (waist + 1 < limit && arc < clear) {
+    ++waist;
+    arc += std::sqrt(distance2_px(w.at(waist), w.at(waist - 1)));
+  }
+  return waist;
+}
+
+/// Trims one end of a branch, at node `id` (see `outside_junctions`); returns points trimmed.
+template <class Index>
+[[nodiscard]] std::size_t trim_end(const skeleton_graph& graph, node_id id,
+                                   const walked_points<Index>& w) noexcept {
+  const skeleton_node node = graph.node(id);
+  if (node.kind == node_kind::end) return trim_tip_cap(w);
+  if (node.kind != node_kind::junction) return 0;
+  const float reach = 2.5f * node.radius_px + 4.0f;
+  const junction_limbs limbs = limbs_around(graph, id, node, w, reach);
+  std::size_t k = 0;
+  while (k < w.limit && inside_junction(graph, w.b.id, id, node, limbs, w.at(k))) ++k;
+  if (k >= w.limit) return k;
+  return trim_to_waist(w, node, limbs, reach, k);
+}
+
+}  // namespace detail
 /// A branch's skeleton runs on into its parent up to the junction node, inside the parent's
 /// body, where it bends toward the node: a window there measures the parent, not the branch.
 /// And the medial axis of a narrow fork splits only where the two limbs' surfaces part, well
@@ -121,101 +268,13 @@ template <class OwnAt>
     trimmed_ends ends = trimmed_ends::both) noexcept {
   const bool at_from = ends != trimmed_ends::to;
   const bool at_to = ends != trimmed_ends::from;
-  auto distance2 = [](pixel a, pixel c) {
-    const float dx = static_cast<float>(a.x - c.x);
-    const float dy = static_cast<float>(a.y - c.y);
-    return dx * dx + dy * dy;
-  };
   const std::size_t n = b.points.size();
-  // Trims from one end: `at(k)` is the k-th point walked from node `id`; returns points trimmed.
-  auto trim = [&](node_id id, auto&& index, std::size_t limit) -> std::size_t {
-    auto at = [&](std::size_t k) { return b.points[index(k)]; };
-    const skeleton_node node = graph.node(id);
-    if (node.kind == node_kind::end) {  // the round cap of a tip
-      std::size_t k = 0;
-      float arc = 0;
-      while (k < limit && arc < b.radius_px[index(k)]) {
-        ++k;
-        if (k < limit) arc += std::sqrt(distance2(at(k), at(k - 1)));
-      }
-      return k;
-    }
-    if (node.kind != node_kind::junction) return 0;
-    constexpr std::size_t max_limbs = 8;
-    junction_limb limbs[max_limbs];
-    std::size_t limb_count = 0;
-    const float reach = 2.5f * node.radius_px + 4.0f;
-    for (const incidence in : graph.topology().incidences(id)) {
-      if (in.edge == b.id || limb_count == max_limbs) continue;
-      limbs[limb_count++] = limb_at_junction(graph.branch(in.edge), in.direction, node, at, limit,
-                                             reach);
-    }
-    auto inside = [&](pixel p) {
-      const float to_node2 = distance2(p, node.position);
-      if (to_node2 < node.radius_px * node.radius_px) return true;
-      const point2f q = to_point(p);
-      for (std::size_t l = 0; l < limb_count; ++l) {
-        const junction_limb& L = limbs[l];
-        if (!L.valid) continue;
-        const float t = std::max(0.0f, L.direction.dot(q - L.base));
-        const float r = L.radius_px + junction_gap_px;
-        if ((q - (L.base + t * L.direction)).squaredNorm() < r * r) return true;
-      }
-      // Points of the other branches within reach of p, walked from the junction outward.
-      const float near = std::sqrt(to_node2) + 2.0f * node.radius_px + 1.0f;
-      for (const incidence in : graph.topology().incidences(id)) {
-        if (in.edge == b.id) continue;
-        const skeleton_branch other = graph.branch(in.edge);
-        const std::size_t count = other.points.size();
-        for (std::size_t k = 0; k < count; ++k) {
-          const std::size_t i = in.direction == traversal::forward ? k : count - 1 - k;
-          const pixel o = other.points[i];
-          if (distance2(o, node.position) > near * near) break;
-          if (distance2(p, o) < other.radius_px[i] * other.radius_px[i]) return true;
-        }
-      }
-      return false;
-    };
-    std::size_t k = 0;
-    while (k < limit && inside(at(k))) ++k;
-    // A narrow fork: walked back from the node, the radius falls to a waist where the thinner
-    // limbs meet the parent (the true fork) and rises to the parent's again. So when this branch
-    // is the parent (no other limb there is thicker) and such a waist (a smoothed radius
-    // `waist_drop_px` below the trimmed end's and the mean of the 8 points beyond it) lies
-    // within reach, the branch is trimmed to it and on by the waist's radius +
-    // `junction_gap_px`, where the limbs' surfaces are. (On a thinner branch, the radius noise
-    // near a wide node looks like a waist and would cut good centreline.)
-    if (k >= limit) return k;
-    auto smoothed = [&](std::size_t j) {  // mean radius of points j - 1 … j + 1
-      const std::size_t lo = j > 0 ? j - 1 : 0, hi = std::min(j + 1, limit - 1);
-      float sum = 0;
-      for (std::size_t q = lo; q <= hi; ++q) sum += b.radius_px[index(q)];
-      return sum / static_cast<float>(hi - lo + 1);
-    };
-    float widest = 0;  // the thickest other limb at the junction
-    for (std::size_t l = 0; l < limb_count; ++l)
-      if (limbs[l].valid) widest = std::max(widest, limbs[l].radius_px);
-    if (smoothed(k) < widest) return k;
-    std::size_t waist = k;
-    for (std::size_t j = k; j < limit && distance2(at(j), node.position) <= reach * reach; ++j)
-      if (smoothed(j) <= smoothed(waist)) waist = j;
-    float beyond = 0;
-    std::size_t count = 0;
-    for (std::size_t j = waist + 2; j < limit && j < waist + 10; ++j, ++count)
-      beyond += b.radius_px[index(j)];
-    const float rim = smoothed(waist) + waist_drop_px;
-    if (count < 4 || beyond < rim * static_cast<float>(count) || smoothed(k) < rim) return k;
-    const float clear = b.radius_px[index(waist)] + junction_gap_px;
-    float arc = 0;
-    while (waist + 1 < limit && arc < clear) {
-      ++waist;
-      arc += std::sqrt(distance2(at(waist), at(waist - 1)));
-    }
-    return waist;
-  };
-  const std::size_t front = at_from ? trim(b.from, [](std::size_t k) { return k; }, n) : 0;
+  auto forward = [](std::size_t k) { return k; };
+  auto backward = [n](std::size_t k) { return n - 1 - k; };
+  const std::size_t front =
+      at_from ? detail::trim_end(graph, b.from, detail::walked_points{b, forward, n}) : 0;
   const std::size_t back =
-      at_to ? trim(b.to, [n](std::size_t k) { return n - 1 - k; }, n - front) : 0;
+      at_to ? detail::trim_end(graph, b.to, detail::walked_points{b, backward, n - front}) : 0;
   return {front, n - front - back};
 }
 

@@ -192,6 +192,139 @@ struct pixel_map {
   }
 };
 
+/// The disc table `find_limb_obstacles` fills: `total` discs, and the map from each placed
+/// pixel to its disc (`pending` for a skeleton pixel listed but not placed yet).
+struct disc_table {
+  std::span<owned_disc> discs;
+  pixel_map disc_of;
+  std::size_t total = 0;
+  std::size_t count = 0;
+  static constexpr std::uint32_t pending = pixel_map::absent - 1;
+
+  void place(pixel p, float radius, std::int32_t owner) noexcept {
+    discs[count] = {static_cast<float>(p.x), static_cast<float>(p.y), radius, owner};
+    disc_of.insert(p, static_cast<std::uint32_t>(count++));
+  }
+};
+
+/// Step 1 of `find_limb_obstacles`: a disc per limb point, of its distance-map radius, capped
+/// beside the junctions at its ends (`caps_of`); and each limb's owner set (itself).
+inline void place_limb_discs(const skeleton_graph& graph, std::span<const skeleton_limb> limbs,
+                             std::span<const std::int32_t> next, std::span<owner_set> own,
+                             disc_table& table) noexcept {
+  for (std::size_t l = 0; l < limbs.size(); ++l) {
+    const skeleton_limb& limb = limbs[l];
+    const bool closed = next[limb.first_end] >= 0;
+    own[l].ids[0] = static_cast<std::int32_t>(l);
+    const junction_caps caps = caps_of(graph, limb, closed);
+    for (std::size_t i = 0; i < limb.points.size(); ++i) {
+      const point2f p = to_point(limb.points[i]);
+      float r = limb.radius_px[i];
+      if ((p - caps.front_node).squaredNorm() <= caps.front_reach2) r = std::min(r, caps.front_radius);
+      if ((p - caps.back_node).squaredNorm() <= caps.back_reach2) r = std::min(r, caps.back_radius);
+      if (table.count < table.total && table.disc_of.find(limb.points[i]) == pixel_map::absent)
+        table.place(limb.points[i], r, static_cast<std::int32_t>(l));
+    }
+  }
+}
+
+/// Step 2: the skeleton's other pixels, marked `pending` and listed in `walk` (at most its
+/// size); returns their count.
+inline std::size_t list_other_pixels(image_view<const std::uint8_t> skeleton, const row_runs* runs,
+                                     disc_table& table, std::span<pixel> walk) noexcept {
+  std::size_t unplaced = 0;
+  for_each_skeleton_pixel(skeleton, runs, [&](int x, int y) {
+    if (table.disc_of.find({x, y}) != pixel_map::absent || unplaced == walk.size()) return;
+    table.disc_of.insert({x, y}, disc_table::pending);
+    walk[unplaced++] = {x, y};
+  });
+  return unplaced;
+}
+
+/// Step 3: a breadth-first walk from the limbs through the other pixels (`walk`): each takes
+/// the owner of the placed neighbour it is reached from, and no more than its radius. First
+/// those next to a limb point, then on along the spurs.
+/// `width` × `height`: the frame's.
+inline void walk_from_limbs(disc_table& table, std::span<const pixel> walk, std::span<pixel> queue,
+                            image_view<const std::uint32_t> dist2, int width, int height) noexcept {
+  constexpr std::uint32_t pending = disc_table::pending;
+  auto inside = [&](pixel q) { return q.x >= 0 && q.y >= 0 && q.x < width && q.y < height; };
+  auto placed_neighbour = [&](pixel p) -> const owned_disc* {
+    for (const pixel d : neighbours8) {
+      const pixel q{p.x + d.x, p.y + d.y};
+      if (!inside(q)) continue;
+      const std::uint32_t v = table.disc_of.find(q);
+      if (v < pending) return &table.discs[v];
+    }
+    return nullptr;
+  };
+  std::size_t queued = 0;
+  auto reach = [&](pixel q, const owned_disc& from) {
+    table.place(q, std::min(std::sqrt(static_cast<float>(dist2(q.x, q.y))), from.radius),
+                from.owner);
+    queue[queued++] = q;
+  };
+  for (std::size_t k = 0; k < walk.size() && table.count < table.total; ++k) {
+    const pixel p = walk[k];
+    if (table.disc_of.find(p) != pending) continue;
+    if (const owned_disc* from = placed_neighbour(p)) {
+      const owned_disc parent = *from;
+      reach(p, parent);
+    }
+  }
+  for (std::size_t head = 0; head < queued && table.count < table.total; ++head) {
+    const pixel from = queue[head];
+    const owned_disc parent = table.discs[table.disc_of.find(from)];
+    for (const pixel d : neighbours8) {
+      const pixel q{from.x + d.x, from.y + d.y};
+      if (table.count < table.total && inside(q) && table.disc_of.find(q) == pending)
+        reach(q, parent);
+    }
+  }
+}
+
+/// Step 4: what the walk never reached: pieces of skeleton with no limb, everyone's obstacle.
+inline void place_unreached(disc_table& table, std::span<const pixel> walk,
+                            image_view<const std::uint32_t> dist2) noexcept {
+  for (std::size_t k = 0; k < walk.size() && table.count < table.total; ++k) {
+    const pixel p = walk[k];
+    if (table.disc_of.find(p) == disc_table::pending)
+      table.place(p, std::sqrt(static_cast<float>(dist2(p.x, p.y))), unowned_disc);
+  }
+}
+
+/// Step 5: obstacles: the discs at least a twig thick (`min_radius_px`), less ½ px.
+inline void keep_obstacles(disc_table& table, float min_radius_px) noexcept {
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < table.count; ++i)
+    if (table.discs[i].radius >= min_radius_px) {
+      owned_disc d = table.discs[i];
+      d.radius -= 0.5f;
+      table.discs[kept++] = d;
+    }
+  table.count = kept;
+}
+
+/// Step 6: the limbs leaving each limb at the junctions at its ends, from the fork on
+/// (`junction_disc`), when at least a twig thick, less ½ px.
+inline void place_junction_discs(const skeleton_graph& graph, std::span<const skeleton_limb> limbs,
+                                 std::span<const std::int32_t> next,
+                                 std::span<const branch_stretch> stretches, float min_radius_px,
+                                 disc_table& table) noexcept {
+  for (std::size_t l = 0; l < limbs.size(); ++l) {
+    const skeleton_limb& limb = limbs[l];
+    const branch_stretch s = stretches[l];
+    if (next[limb.first_end] >= 0 || s.count == 0) continue;
+    for (const bool front : {true, false}) {
+      const std::size_t i = front ? s.first : s.first + s.count - 1;
+      owned_disc d = junction_disc(graph, limb, front ? limb.first_end : limb.last_end, front,
+                                   limb.points[i], limb.radius_px[i]);
+      if (d.radius < min_radius_px || table.count >= table.total) continue;
+      d.radius -= 0.5f;
+      table.discs[table.count++] = d;
+    }
+  }
+}
 }  // namespace detail
 
 /// The obstacle discs of every limb and the owner sets of `limbs` (from `trace_limbs` with the
@@ -234,98 +367,17 @@ struct pixel_map {
   auto queue = ws.allocate<pixel>(pixels);  // the breadth-first walk's queue
   PERCH_TRY(all_ok(own, discs, keys, values, walk, queue));
   // Limb points, then the skeleton's other pixels (`pending`), mapped to their discs.
-  const detail::pixel_map disc_of{*keys, *values, width};
-  constexpr std::uint32_t pending = detail::pixel_map::absent - 1;
+  detail::disc_table table{*discs, detail::pixel_map{*keys, *values, width}, total};
   const float min_radius_px = options.twig_radius_px(mm_per_px);
-  std::size_t count = 0;
-  auto place = [&](pixel p, float radius, std::int32_t owner) {
-    (*discs)[count] = {static_cast<float>(p.x), static_cast<float>(p.y), radius, owner};
-    disc_of.insert(p, static_cast<std::uint32_t>(count++));
-  };
-  for (std::size_t l = 0; l < limbs.size(); ++l) {
-    const skeleton_limb& limb = limbs[l];
-    const bool closed = next[limb.first_end] >= 0;
-    (*own)[l].ids[0] = static_cast<std::int32_t>(l);
-    const detail::junction_caps caps = detail::caps_of(graph, limb, closed);
-    for (std::size_t i = 0; i < limb.points.size(); ++i) {
-      const point2f p = to_point(limb.points[i]);
-      float r = limb.radius_px[i];
-      if ((p - caps.front_node).squaredNorm() <= caps.front_reach2) r = std::min(r, caps.front_radius);
-      if ((p - caps.back_node).squaredNorm() <= caps.back_reach2) r = std::min(r, caps.back_radius);
-      if (count < total && disc_of.find(limb.points[i]) == detail::pixel_map::absent)
-        place(limb.points[i], r, static_cast<std::int32_t>(l));
-    }
-  }
-  std::size_t unplaced = 0;  // the other pixels, listed in `walk`
-  detail::for_each_skeleton_pixel(skeleton, runs, [&](int x, int y) {
-    if (disc_of.find({x, y}) != detail::pixel_map::absent || unplaced == pixels) return;
-    disc_of.insert({x, y}, pending);
-    (*walk)[unplaced++] = {x, y};
-  });
-  // A breadth-first walk from the limbs through the other pixels: each takes the owner of the
-  // placed neighbour it is reached from, and no more than its radius. First those next to a
-  // limb point, then on along the spurs.
-  auto inside = [&](pixel q) { return q.x >= 0 && q.y >= 0 && q.x < width && q.y < height; };
-  auto placed_neighbour = [&](pixel p) -> const owned_disc* {
-    for (const pixel d : neighbours8) {
-      const pixel q{p.x + d.x, p.y + d.y};
-      if (!inside(q)) continue;
-      const std::uint32_t v = disc_of.find(q);
-      if (v < pending) return &(*discs)[v];
-    }
-    return nullptr;
-  };
-  std::size_t queued = 0;
-  auto reach = [&](pixel q, const owned_disc& from) {
-    place(q, std::min(std::sqrt(static_cast<float>(dist2(q.x, q.y))), from.radius), from.owner);
-    (*queue)[queued++] = q;
-  };
-  for (std::size_t k = 0; k < unplaced && count < total; ++k) {
-    const pixel p = (*walk)[k];
-    if (disc_of.find(p) != pending) continue;
-    if (const owned_disc* from = placed_neighbour(p)) {
-      const owned_disc parent = *from;
-      reach(p, parent);
-    }
-  }
-  for (std::size_t head = 0; head < queued && count < total; ++head) {
-    const pixel from = (*queue)[head];
-    const owned_disc parent = (*discs)[disc_of.find(from)];
-    for (const pixel d : neighbours8) {
-      const pixel q{from.x + d.x, from.y + d.y};
-      if (count < total && inside(q) && disc_of.find(q) == pending) reach(q, parent);
-    }
-  }
-  // What the walk never reached: pieces of skeleton with no limb.
-  for (std::size_t k = 0; k < unplaced && count < total; ++k) {
-    const pixel p = (*walk)[k];
-    if (disc_of.find(p) == pending)
-      place(p, std::sqrt(static_cast<float>(dist2(p.x, p.y))), unowned_disc);
-  }
-  std::size_t kept = 0;
-  // Obstacles: the discs at least a twig thick, less ½ px.
-  for (std::size_t i = 0; i < count; ++i)
-    if ((*discs)[i].radius >= min_radius_px) {
-      owned_disc d = (*discs)[i];
-      d.radius -= 0.5f;
-      (*discs)[kept++] = d;
-    }
-  count = kept;
-  // The limbs leaving each limb at the junctions at its ends, from the fork on.
-  for (std::size_t l = 0; l < limbs.size(); ++l) {
-    const skeleton_limb& limb = limbs[l];
-    const branch_stretch s = stretches[l];
-    if (next[limb.first_end] >= 0 || s.count == 0) continue;
-    for (const bool front : {true, false}) {
-      const std::size_t i = front ? s.first : s.first + s.count - 1;
-      owned_disc d = detail::junction_disc(graph, limb, front ? limb.first_end : limb.last_end,
-                                           front, limb.points[i], limb.radius_px[i]);
-      if (d.radius < min_radius_px || count >= total) continue;
-      d.radius -= 0.5f;
-      (*discs)[count++] = d;
-    }
-  }
-  auto index = disc_index::build(std::span<const owned_disc>(*discs).first(count), width, height, ws);
+  detail::place_limb_discs(graph, limbs, next, *own, table);
+  const std::size_t unplaced = detail::list_other_pixels(skeleton, runs, table, *walk);
+  const std::span<const pixel> others = walk->first(unplaced);
+  detail::walk_from_limbs(table, others, *queue, dist2, width, height);
+  detail::place_unreached(table, others, dist2);
+  detail::keep_obstacles(table, min_radius_px);
+  detail::place_junction_discs(graph, limbs, next, stretches, min_radius_px, table);
+  auto index = disc_index::build(std::span<const owned_disc>(*discs).first(table.count), width,
+                                 height, ws);
   PERCH_TRY(all_ok(index));
   return limb_obstacles{*index, *own};
 }
