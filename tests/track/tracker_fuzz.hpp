@@ -101,30 +101,44 @@ void check_result(const perch_tracker& tracker, const tracking_result& r, Fail&&
   if (r.changed && r.change.from == r.change.to) fail("a change to the same target");
 }
 
-/// One frame's result from the bytes: up to 6 sites and 4 near misses with hostile measures.
+/// A few spots that frames come back to, so that tracks are confirmed, become targets and meet
+/// near misses at their spots (garbage alone seldom gets that far).
+struct fuzz_scene {
+  pixel spots[4];
+  explicit fuzz_scene(byte_reader& in) {
+    for (pixel& p : spots)
+      p = {static_cast<std::int32_t>(in.byte()) * 2 + 40, static_cast<std::int32_t>(in.byte()) + 100};
+  }
+};
+
+/// One frame's result from the bytes: up to 6 sites and 4 near misses, mostly at the scene's
+/// spots (jittered, with small misses), else anywhere with hostile measures.
 struct fuzz_frame {
   std::vector<perch_site> sites;
   std::vector<near_miss> misses;
   perch_result result;
 
-  fuzz_frame(byte_reader& in, int width, int height) {
-    static constexpr std::string_view rules[] = {"clearance", "resolution", "diameter", "max_slope",
-                                                 "bend",      "border",     "supported", "custom"};
-    static constexpr std::string_view units[] = {"mm", "px", "deg", "", "share"};
+  fuzz_frame(byte_reader& in, const fuzz_scene& scene, int width, int height) {
+    // Rules with their units, and two mismatched: a unit the noise table cannot convert.
+    static constexpr std::string_view rules[][2] = {
+        {"clearance", "mm"}, {"resolution", "px"}, {"diameter", "mm"}, {"max_slope", "deg"},
+        {"bend", "deg"},     {"border", "px"},     {"supported", ""},  {"custom", "mm"},
+        {"clearance", "share"}, {"max_slope", "mm"}};
     const int site_count = in.byte() % 7, miss_count = in.byte() % 5;
     for (int i = 0; i < site_count; ++i) {
       perch_site s;
-      fill(in, s.window, width, height);
+      fill(in, scene, s.window, width, height);
       s.penalty = in.mostly(1.0f);
       sites.push_back(s);
     }
     for (int i = 0; i < miss_count; ++i) {
       near_miss m;
-      m.constraint = rules[in.byte() % 8];
-      m.unit = units[in.byte() % 5];
-      m.miss = in.mostly(20.0f);
+      const std::uint8_t rule = in.byte() % 10;
+      m.constraint = rules[rule][0];
+      m.unit = rules[rule][1];
+      m.miss = in.byte() % 2 == 0 ? in.mostly(3.0f) : in.mostly(20.0f);
       m.present = in.byte() % 8 != 0;
-      fill(in, m.window, width, height);
+      fill(in, scene, m.window, width, height);
       misses.push_back(m);
     }
     result.width = width;
@@ -132,16 +146,25 @@ struct fuzz_frame {
     result.mm_per_px = in.mostly(10.0f);
     result.sites = sites;
     result.near_misses = misses;
-    const std::uint8_t outcome = in.byte() % 8;
+    const std::uint8_t outcome = in.byte() % 16;
     result.outcome = outcome == 0 ? perch_outcome::no_tree
                      : sites.empty() || outcome == 1 ? perch_outcome::no_perch
                                                      : perch_outcome::found;
   }
 
-  static void fill(byte_reader& in, window_measures& w, int width, int height) {
-    w.centre = {in.coordinate(width), in.coordinate(height)};
-    w.base_end = {in.coordinate(width), in.coordinate(height)};
-    w.tip_end = in.byte() % 4 == 0 ? w.base_end : pixel{in.coordinate(width), in.coordinate(height)};
+  static void fill(byte_reader& in, const fuzz_scene& scene, window_measures& w, int width,
+                   int height) {
+    const std::uint8_t at = in.byte();
+    if (at % 4 != 0) {  // at a spot, a pixel or two off, a level window 60 px long
+      const pixel p = scene.spots[at / 4 % 4];
+      w.centre = {p.x + at % 3 - 1, p.y + at / 16 % 3 - 1};
+      w.base_end = {w.centre.x - 30, w.centre.y};
+      w.tip_end = {w.centre.x + 30, w.centre.y};
+    } else {
+      w.centre = {in.coordinate(width), in.coordinate(height)};
+      w.base_end = {in.coordinate(width), in.coordinate(height)};
+      w.tip_end = in.byte() % 4 == 0 ? w.base_end : pixel{in.coordinate(width), in.coordinate(height)};
+    }
     w.heading_deg = in.mostly(360.0f) - 180.0f;
     w.slope_deg = in.mostly(90.0f);
     w.claw_diameter_mm = in.mostly(150.0f);
@@ -153,9 +176,10 @@ struct fuzz_frame {
 
 /// A motion from the bytes: identity, a plausible similarity, or a hostile homography.
 inline camera_motion fuzz_motion(byte_reader& in) {
-  switch (in.byte() % 4) {
-    case 0: return camera_motion::identity();
-    case 1:
+  const std::uint8_t kind = in.byte() % 8;
+  if (kind < 3) return camera_motion::identity();
+  switch (kind % 2) {
+    case 0:
       return camera_motion::similarity_about({in.mostly(640.0f), in.mostly(480.0f)},
                                              0.9f + in.mostly(0.2f), in.mostly(20.0f) - 10.0f,
                                              {in.mostly(40.0f) - 20.0f, in.mostly(40.0f) - 20.0f});
@@ -171,16 +195,22 @@ inline camera_motion fuzz_motion(byte_reader& in) {
 inline tracker_options fuzz_options(byte_reader& in) {
   tracker_options o;
   const std::uint8_t b = in.byte();
-  if (b % 4 == 0) return o;
-  o.confirm_frames = in.byte() % 6;
+  if (b % 2 == 0) return o;
+  if (b % 16 == 1) {  // anything, valid or not
+    o.confirm_frames = in.byte() % 6;
+    o.doubtful_frames = in.byte() % 16;
+    o.switch_margin = in.hostile(0.2f);
+    o.along_gain = in.hostile(1.0f);
+    o.across_gate_windows = in.hostile(1.0f);
+    return o;
+  }
+  o.confirm_frames = 1 + in.byte() % 5;
   o.drop_frames = 1 + in.byte() % 8;
   o.forget_frames = in.byte() % 20;
   o.infeasible_frames = 1 + in.byte() % 5;
-  o.doubtful_frames = in.byte() % 16;
+  o.doubtful_frames = 1 + in.byte() % 16;
   o.switch_frames = 1 + in.byte() % 10;
-  o.switch_margin = in.byte() % 8 == 0 ? in.hostile(0.2f) : 0.08f;
-  o.along_gain = in.byte() % 8 == 0 ? in.hostile(1.0f) : 0.15f;
-  o.across_gate_windows = in.byte() % 8 == 0 ? in.hostile(1.0f) : 0.35f;
+  o.switch_margin = in.mostly(0.2f);
   return o;
 }
 
@@ -190,9 +220,10 @@ void run_tracker_fuzz(const std::uint8_t* data, std::size_t size, Fail&& report)
   byte_reader in(data, size);
   static perch_tracker tracker;  // static: big, and the fuzzer runs many inputs
   tracker = perch_tracker(fuzz_options(in));
+  const fuzz_scene scene(in);
   int width = 640, height = 480;
   for (int step = 0; step < 200 && !in.done(); ++step) {
-    const std::uint8_t op = in.byte() % 16;
+    const std::uint8_t op = in.byte() % 32;
     tracking_result r;
     if (op == 0) {
       r = tracker.skip(fuzz_motion(in));
@@ -203,14 +234,17 @@ void run_tracker_fuzz(const std::uint8_t* data, std::size_t size, Fail&& report)
       tracker.reset();
       continue;
     } else {
-      if (op == 3) {  // another frame size, now and then nonsense
+      if (op == 3 && in.byte() % 4 == 0) {  // another frame size, now and then nonsense
         width = static_cast<int>(in.byte()) * 8 - 16;
         height = static_cast<int>(in.byte()) * 8 - 16;
       }
-      const fuzz_frame frame(in, width, height);
-      r = tracker.update(frame.result, op < 8 ? camera_motion::identity() : fuzz_motion(in));
+      const fuzz_frame frame(in, scene, width, height);
+      r = tracker.update(frame.result, op < 20 ? camera_motion::identity() : fuzz_motion(in));
     }
     check_result(tracker, r, report);
+#ifdef PERCH_FUZZ_COVERAGE
+    PERCH_FUZZ_COVERAGE(r);
+#endif
   }
 }
 
