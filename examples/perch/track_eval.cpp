@@ -419,10 +419,13 @@ int run_track_eval(int argc, const char* const* argv) {
   args.add_option("family", "F", "the population family: arcs, colonisation or both", "arcs");
   args.add_option("motion", "SOURCE", "the tracker's camera motion: truth (as visual odometry would\n"
                                       "give it), estimated (from the masks: motion_estimator) or none (identity)", "truth");
+  const tracker_options defaults;
   args.add_option("doubtful-frames", "N", "tracker_options::doubtful_frames: frames a target may stay\n"
-                                          "while its spot misses a rule within the rule's noise", "10");
+                                          "while its spot misses a rule within the rule's noise",
+                  std::to_string(defaults.doubtful_frames));
   args.add_option("infeasible-frames", "N", "tracker_options::infeasible_frames: near-miss frames beyond\n"
-                                            "the rule's noise before the target is left", "3");
+                                            "the rule's noise before the target is left",
+                  std::to_string(defaults.infeasible_frames));
   args.add_option("jobs", "N", "worker threads; 0 = all cores", "0", 'j');
   args.add_option("json", "OUT.json", "also write the totals as JSON (an array with --family both)");
   args.add_flag("rows", "one row per sequence");
@@ -444,8 +447,8 @@ int run_track_eval(int argc, const char* const* argv) {
   const auto n = args.get_int("sequences", 40, 1, 100000);
   const auto frames = args.get_int("frames", 90, 2, 100000);
   const auto jobs = args.get_int("jobs", 0, 0, 1024);
-  const auto doubtful = args.get_int("doubtful-frames", 10, 1, 100000);
-  const auto infeasible = args.get_int("infeasible-frames", 3, 1, 100000);
+  const auto doubtful = args.get_int("doubtful-frames", static_cast<int>(defaults.doubtful_frames), 1, 100000);
+  const auto infeasible = args.get_int("infeasible-frames", static_cast<int>(defaults.infeasible_frames), 1, 100000);
   for (const auto* v : {&n, &frames, &jobs, &doubtful, &infeasible})
     if (!*v) {
       report_error("eval", v->error);

@@ -114,7 +114,7 @@ struct tracker_options {
   /// noise, not a limb that changed. Never more: a miss that lasts is real. More: fewer
   /// switches away from a target the truth still calls feasible; fewer: a target that truly
   /// turned marginal is left sooner.
-  std::uint32_t doubtful_frames = 10;
+  std::uint32_t doubtful_frames = 5;
   /// Weight of a new measurement across the limb (0, 1]: the rest is the motion's prediction.
   /// Less: steadier position, but slower to correct a wrong motion.
   float across_gain = 0.5f;
