@@ -406,6 +406,20 @@ std::string json_of(const std::vector<std::string>& objects) {
   return out + "]";
 }
 
+/// What `perch eval --sequences --help` says about the scores.
+constexpr const char* eval_epilog =
+      "find_perch gets each frame's true scale (fixed_scale) and roll (perch_options::camera).\n"
+      "On a feasible stretch: within 3 px + 3 % of the window of a feasible window centre of the\n"
+      "frame's truth. A switch away from a target is unwarranted when the old target, moved with\n"
+      "the camera, is still in view and on a feasible stretch. Jitter: per run of one target id,\n"
+      "the RMS distance of the target from the run's mean point (in the tree's own pixels) over\n"
+      "the local truth diameter. Lock: frames from the first frame with a feasible stretch to the\n"
+      "first frame whose target is on one. The frames with a feasible stretch whose target is on\n"
+      "none are broken down into (a) no target and (b) a target on no feasible stretch (the\n"
+      "worst case: a confident wrong target), by how the target was matched and by the truth's\n"
+      "verdict at its spot.\n"
+      "Example: perch eval --sequences 40 --frames 90 --family both --rows";
+
 }  // namespace
 
 int run_track_eval(int argc, const char* const* argv) {
@@ -430,18 +444,7 @@ int run_track_eval(int argc, const char* const* argv) {
   args.add_option("json", "OUT.json", "also write the totals as JSON (an array with --family both)");
   args.add_flag("rows", "one row per sequence");
   args.add_flag("quiet", "no progress bar");
-  args.set_epilog(
-      "find_perch gets each frame's true scale (fixed_scale) and roll (perch_options::camera).\n"
-      "On a feasible stretch: within 3 px + 3 % of the window of a feasible window centre of the\n"
-      "frame's truth. A switch away from a target is unwarranted when the old target, moved with\n"
-      "the camera, is still in view and on a feasible stretch. Jitter: per run of one target id,\n"
-      "the RMS distance of the target from the run's mean point (in the tree's own pixels) over\n"
-      "the local truth diameter. Lock: frames from the first frame with a feasible stretch to the\n"
-      "first frame whose target is on one. The frames with a feasible stretch whose target is on\n"
-      "none are broken down into (a) no target and (b) a target on no feasible stretch (the\n"
-      "worst case: a confident wrong target), by how the target was matched and by the truth's\n"
-      "verdict at its spot.\n"
-      "Example: perch eval --sequences 40 --frames 90 --family both --rows");
+  args.set_epilog(eval_epilog);
   int exit = exit_ok;
   if (!parse_or_exit(args, argc, argv, "eval", exit)) return exit;
   const auto n = args.get_int("sequences", 40, 1, 100000);
