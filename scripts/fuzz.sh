@@ -16,7 +16,7 @@ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_COMPILER=clang++-16 -DPERCH_BUILD_FUZZERS=ON -DPERCH_BUILD_TESTS=OFF \
   -DPERCH_BUILD_EXAMPLES=OFF -DPERCH_BUILD_BENCHMARKS=OFF -DPERCH_INSTALL=OFF >/dev/null
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(fuzz_png fuzz_find_perch fuzz_skeleton_graph)
+[ ${#targets[@]} -gt 0 ] || targets=(fuzz_png fuzz_find_perch fuzz_skeleton_graph fuzz_tracker)
 cmake --build build/fuzz --target "${targets[@]}"
 found=0
 for t in "${targets[@]}"; do

@@ -82,6 +82,23 @@ void write_track_fields(st::json_writer& json, const perch_track& t) {
       .key("y").value(static_cast<double>(t.position_px.y()));
 }
 
+/// `"doubtful"`: null, or the rule the target's spot failed and by how much (a target kept
+/// through a near miss within the rule's noise, or for a frame or two beyond it).
+void write_doubt(st::json_writer& json, const perch_track& t) {
+  json.key("doubtful");
+  if (!t.doubtful) {
+    json.null();
+    return;
+  }
+  json.begin_object()
+      .key("constraint").value(t.failed_constraint)
+      .key("miss").value(static_cast<double>(t.failed_by))
+      .key("unit").value(t.failed_unit)
+      .key("within_noise").value(t.marginal)
+      .key("frames").value(static_cast<std::int64_t>(t.infeasible_streak))
+      .end_object();
+}
+
 struct frame_report {
   int frame = 0;
   std::string input;
@@ -107,8 +124,9 @@ std::string frame_json(const frame_report& f) {
     json.key("heading_deg").value(static_cast<double>(r.target->heading_deg))
         .key("slope_deg").value(static_cast<double>(r.target->slope_deg))
         .key("diameter_mm").value(static_cast<double>(r.target->diameter_mm))
-        .key("penalty").value(static_cast<double>(r.target->penalty))
-        .end_object();
+        .key("penalty").value(static_cast<double>(r.target->penalty));
+    write_doubt(json, *r.target);
+    json.end_object();
   } else {
     json.null();
   }
@@ -118,7 +136,11 @@ std::string frame_json(const frame_report& f) {
         .key("from").value(static_cast<std::int64_t>(r.change.from))
         .key("to").value(static_cast<std::int64_t>(r.change.to))
         .key("reason").value(to_string(r.change.reason));
-    if (!r.change.constraint.empty()) json.key("constraint").value(r.change.constraint);
+    if (!r.change.constraint.empty())
+      json.key("constraint").value(r.change.constraint)
+          .key("miss").value(static_cast<double>(r.change.miss))
+          .key("unit").value(r.change.unit)
+          .key("frames").value(static_cast<std::int64_t>(r.change.frames));
     json.end_object();
   } else {
     json.null();
@@ -202,8 +224,9 @@ int run_track(int argc, const char* const* argv) {
   add_mask_options(args);
   args.set_epilog(
       "Each line: {\"frame\", \"input\", \"status\", \"target\": {\"id\", \"state\", \"x\", \"y\",\n"
-      "\"heading_deg\", \"slope_deg\", \"diameter_mm\", \"penalty\"} or null, \"change\": {\"from\", \"to\",\n"
-      "\"reason\"[, \"constraint\"]} or null, \"tracks\": [{\"id\", \"state\", \"x\", \"y\", \"age\", \"hits\",\n"
+      "\"heading_deg\", \"slope_deg\", \"diameter_mm\", \"penalty\", \"doubtful\": {\"constraint\", \"miss\",\n"
+      "\"unit\", \"within_noise\", \"frames\"} or null} or null, \"change\": {\"from\", \"to\", \"reason\"[,\n"
+      "\"constraint\", \"miss\", \"unit\", \"frames\"]} or null, \"tracks\": [{\"id\", \"state\", \"x\", \"y\", \"age\", \"hits\",\n"
       "\"misses\", \"penalty\"}], \"motion\": {\"source\": given|estimated|identity, \"h\"}, \"timing_ms\": {\"find_perch\", \"track\"}}.\n"
       "status: ok, no_perch, no_tree, wrong_size, bad_motion, missing_frame (an unreadable mask or\n"
       "a failed analysis, with \"error\"). Exit status: 0; 2 for bad arguments.\n"

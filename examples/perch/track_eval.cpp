@@ -26,6 +26,36 @@ namespace st = perch::support;
 /// Where the tracker's motion comes from.
 enum class motion_source : std::uint8_t { truth, none, estimated };
 
+/// How the target of a frame was matched, for the frames it is on no feasible stretch.
+enum class target_match : std::uint8_t { site, near_miss, unmatched };
+constexpr int target_match_count = 3;
+constexpr int verdict_count = static_cast<int>(st::window_verdict::bending) + 1;
+constexpr int reason_count = static_cast<int>(target_change_reason::doubtful) + 1;
+
+/// Where the frames whose target is not on a feasible stretch went (the measure the tracker's
+/// changes are decided on): no target at all, or a confident wrong target, the worst case.
+struct miss_breakdown {
+  int unlocked = 0;  ///< a feasible stretch in view, no target yet in this sequence
+  int dropped = 0;   ///< a feasible stretch in view, no target, after a target was given up
+  int wrong_in_view = 0;  ///< a feasible stretch in view, the target on none
+  int wrong_no_view = 0;  ///< no feasible stretch anywhere in the frame, a target all the same
+  int wrong_doubtful = 0;  ///< of the wrong frames (both kinds), those whose target was doubtful
+  int wrong_by_match[target_match_count] = {};  ///< wrong frames by the target's match
+  int wrong_by_verdict[verdict_count] = {};  ///< by the truth's verdict at the target's spot
+  int doubtful_frames = 0;  ///< frames whose target was doubtful (kept through a near miss)
+
+  void add(const miss_breakdown& o) {
+    unlocked += o.unlocked;
+    dropped += o.dropped;
+    wrong_in_view += o.wrong_in_view;
+    wrong_no_view += o.wrong_no_view;
+    wrong_doubtful += o.wrong_doubtful;
+    doubtful_frames += o.doubtful_frames;
+    for (int k = 0; k < target_match_count; ++k) wrong_by_match[k] += o.wrong_by_match[k];
+    for (int k = 0; k < verdict_count; ++k) wrong_by_verdict[k] += o.wrong_by_verdict[k];
+  }
+};
+
 /// What one sequence scored.
 struct sequence_score {
   int index = 0;
@@ -36,10 +66,11 @@ struct sequence_score {
   int target_frames = 0;      ///< frames with a target
   int switches = 0;           ///< target changes away from a target
   int unwarranted = 0;        ///< of those, the old target still on a feasible stretch in view
-  int by_reason[4] = {0, 0, 0, 0};  ///< unwarranted switches by `target_change_reason`
+  int by_reason[reason_count] = {};  ///< unwarranted switches by `target_change_reason`
   int lock_frames = -1;       ///< first feasible view → first target on a feasible stretch
   double jitter_sq_sum = 0;   ///< Σ (deviation / local diameter)²
   int jitter_samples = 0;
+  miss_breakdown misses;
   float tracker_ms = 0;       ///< tracker time over the sequence (motion estimate included)
   std::string error;
 };
@@ -82,16 +113,88 @@ std::int64_t now_ns() noexcept {
       .count();
 }
 
-sequence_score score_sequence(int index, const st::sequence_options& options, motion_source source,
-                              workspace& ws) {
+/// How the target was matched in this frame.
+target_match match_of(const perch_track& t) {
+  if (!t.matched) return target_match::unmatched;
+  return t.feasible ? target_match::site : target_match::near_miss;
+}
+
+/// The truth's verdict at the window centred where `p` lies on the tree (not twigs).
+st::window_verdict verdict_at(const st::sequence_frame& frame, const st::perch_truth& truth,
+                              point2f p) {
+  const st::limb_location at = st::locate(frame.tree.limbs, p, st::limb_set::without_twigs);
+  if (at.limb < 0) return st::window_verdict::off_limb;
+  return truth.window(at.limb, at.arc_px).verdict;
+}
+
+/// Books a frame that has a feasible stretch in view but a target on none, or no target.
+void judge_miss(const st::sequence_frame& frame, const st::perch_truth& truth,
+                const tracking_result& r, bool ever_targeted, miss_breakdown& m) {
+  const bool view = truth.has_perch();
+  if (r.target == nullptr) {
+    if (view) ++(ever_targeted ? m.dropped : m.unlocked);
+    return;
+  }
+  const perch_track& t = *r.target;
+  if (t.doubtful) ++m.doubtful_frames;
+  if (view && on_feasible(truth, t.position_px)) return;
+  ++(view ? m.wrong_in_view : m.wrong_no_view);
+  if (t.doubtful) ++m.wrong_doubtful;
+  ++m.wrong_by_match[static_cast<int>(match_of(t))];
+  ++m.wrong_by_verdict[static_cast<int>(verdict_at(frame, truth, t.position_px))];
+}
+
+/// The frame's target against its truth: on a feasible stretch, lock, jitter run.
+void judge_target(const st::sequence_frame& frame, const st::perch_truth& truth,
+                  const tracking_result& r, int f, int first_feasible, target_run& run,
+                  sequence_score& score) {
+  ++score.target_frames;
+  const point2f p = r.target->position_px;
+  const bool good = truth.has_perch() && on_feasible(truth, p);
+  if (good) ++score.on_feasible;
+  if (good && score.lock_frames < 0) score.lock_frames = f - first_feasible;
+  if (r.target->id != run.id) {
+    add_jitter(run, score);
+    run = target_run{r.target->id, {}, {}};
+  }
+  const camera_motion to_world = st::detail::sequences::inverse_similarity(frame.from_world);
+  const st::limb_location at = st::locate(frame.tree, p, st::limb_set::without_twigs);
+  run.world.push_back(to_world.apply(p));
+  run.diameter_world_px.push_back(at.diameter_px / frame.scale);
+}
+
+/// A switch away from a target is called for when the old target (moved with the camera) left
+/// the view or its stretch.
+void judge_switch(const st::sequence_frame& frame, const st::perch_truth& truth,
+                  const tracking_result& r, bool had_target, point2f last_target,
+                  sequence_score& score) {
+  if (!r.changed || r.change.from == 0) return;
+  ++score.switches;
+  const point2f old = frame.motion.apply(last_target);
+  if (had_target && inside(frame, old) && on_feasible(truth, old)) {
+    ++score.unwarranted;
+    ++score.by_reason[static_cast<int>(r.change.reason)];
+  }
+}
+
+/// What a run of the evaluation varies.
+struct eval_setup {
+  st::sequence_options sequence;
+  st::tree_family family = st::tree_family::arcs;
+  motion_source source = motion_source::truth;
+  tracker_options tracker;
+};
+
+sequence_score score_sequence(int index, const eval_setup& setup, workspace& ws) {
   sequence_score score;
   score.index = index;
-  const st::approach_sequence seq = st::evaluation_sequence(index, options);
-  perch_tracker tracker;
+  const st::approach_sequence seq = st::evaluation_sequence(index, setup.sequence, setup.family);
+  const motion_source source = setup.source;
+  perch_tracker tracker(setup.tracker);
   motion_estimator estimator;
   target_run run;
   point2f last_target = point2f::Zero();
-  bool had_target = false;
+  bool had_target = false, ever_targeted = false;
   int first_feasible = -1;
   std::int64_t tracker_ns = 0;
   for (int f = 0; f < seq.frames(); ++f) {
@@ -114,41 +217,19 @@ sequence_score score_sequence(int index, const st::sequence_options& options, mo
     tracker_ns += now_ns() - t0;
 
     ++score.frames;
-    const bool feasible_view = truth.has_perch();
-    if (feasible_view) {
+    if (truth.has_perch()) {
       ++score.feasible_frames;
       if (first_feasible < 0) first_feasible = f;
       if (!found->sites.empty() && on_feasible(truth, to_point(found->sites.front().window.centre)))
         ++score.raw_on_feasible;
     }
-    if (r.changed && r.change.from != 0) {
-      ++score.switches;
-      // Called for when the old target (moved with the camera) left the view or its stretch.
-      const point2f old = frame.motion.apply(last_target);
-      if (had_target && inside(frame, old) && on_feasible(truth, old)) {
-        ++score.unwarranted;
-        ++score.by_reason[static_cast<int>(r.change.reason)];
-      }
-    }
-    const camera_motion to_world = st::detail::sequences::inverse_similarity(frame.from_world);
-    if (r.target != nullptr) {
-      ++score.target_frames;
-      const point2f p = r.target->position_px;
-      const bool good = feasible_view && on_feasible(truth, p);
-      if (good) ++score.on_feasible;
-      if (good && score.lock_frames < 0) score.lock_frames = f - first_feasible;
-      if (r.target->id != run.id) {
-        add_jitter(run, score);
-        run = target_run{r.target->id, {}, {}};
-      }
-      const st::limb_location at = st::locate(frame.tree, p, st::limb_set::without_twigs);
-      run.world.push_back(to_world.apply(p));
-      run.diameter_world_px.push_back(at.diameter_px / frame.scale);
-      last_target = p;
-      had_target = true;
-    } else {
-      had_target = false;
-    }
+    judge_switch(frame, truth, r, had_target, last_target, score);
+    judge_miss(frame, truth, r, ever_targeted, score.misses);
+    had_target = r.target != nullptr;
+    if (!had_target) continue;
+    judge_target(frame, truth, r, f, first_feasible, run, score);
+    last_target = r.target->position_px;
+    ever_targeted = true;
   }
   add_jitter(run, score);
   score.tracker_ms = static_cast<float>(static_cast<double>(tracker_ns) * 1e-6);
@@ -157,7 +238,8 @@ sequence_score score_sequence(int index, const st::sequence_options& options, mo
 
 struct totals {
   int sequences = 0, frames = 0, feasible = 0, on = 0, raw_on = 0, switches = 0, unwarranted = 0;
-  int by_reason[4] = {0, 0, 0, 0};
+  int by_reason[reason_count] = {};
+  miss_breakdown misses;
   double jitter_sq = 0;
   int jitter_n = 0;
   std::vector<int> locks;  ///< per sequence with a feasible view; -1: never locked
@@ -179,7 +261,8 @@ totals add_up(const std::vector<sequence_score>& scores) {
     t.raw_on += s.raw_on_feasible;
     t.switches += s.switches;
     t.unwarranted += s.unwarranted;
-    for (int k = 0; k < 4; ++k) t.by_reason[k] += s.by_reason[k];
+    for (int k = 0; k < reason_count; ++k) t.by_reason[k] += s.by_reason[k];
+    t.misses.add(s.misses);
     t.jitter_sq += s.jitter_sq_sum;
     t.jitter_n += s.jitter_samples;
     t.tracker_ms += static_cast<double>(s.tracker_ms);
@@ -190,19 +273,43 @@ totals add_up(const std::vector<sequence_score>& scores) {
 
 double percent(int a, int b) { return b > 0 ? 100.0 * a / b : 0.0; }
 
+/// (a) no target, (b) a target on no feasible stretch, by match and by the truth's verdict.
+void print_breakdown(const totals& t) {
+  const miss_breakdown& m = t.misses;
+  const int wrong = m.wrong_in_view + m.wrong_no_view;
+  std::printf("frames with a feasible stretch and no target on one: %d\n", t.feasible - t.on);
+  std::printf("  (a) no target: %d before the first lock, %d after a target was given up\n",
+              m.unlocked, m.dropped);
+  std::printf("  (b) a target on no feasible stretch: %d (and %d frames whose truth has no feasible "
+              "stretch at all)\n", m.wrong_in_view, m.wrong_no_view);
+  std::printf("      of those %d: confident (not flagged doubtful) %d, doubtful %d\n", wrong,
+              wrong - m.wrong_doubtful, m.wrong_doubtful);
+  std::printf("      by the target's match: ranked site %d, near miss %d, unmatched %d\n",
+              m.wrong_by_match[static_cast<int>(target_match::site)],
+              m.wrong_by_match[static_cast<int>(target_match::near_miss)],
+              m.wrong_by_match[static_cast<int>(target_match::unmatched)]);
+  std::printf("      by the truth's verdict at the target's spot:");
+  for (int k = 0; k < verdict_count; ++k)
+    if (m.wrong_by_verdict[k] > 0)
+      std::printf(" %s %d", st::to_string(static_cast<st::window_verdict>(k)), m.wrong_by_verdict[k]);
+  std::printf("\n  frames with a doubtful target: %d\n", m.doubtful_frames);
+}
+
 void print_scores(const std::vector<sequence_score>& scores, const totals& t, bool rows) {
   if (rows) {
-    std::printf("%4s %6s %8s %9s %9s %8s %8s %7s %8s\n", "seq", "frames", "feasible", "on (%)",
-                "raw (%)", "switches", "unwarr.", "lock", "jitter/d");
+    std::printf("%4s %6s %8s %9s %9s %8s %8s %7s %8s %7s %6s %8s\n", "seq", "frames", "feasible", "on (%)",
+                "raw (%)", "switches", "unwarr.", "lock", "jitter/d", "no tgt", "wrong", "doubtful");
     for (const sequence_score& s : scores) {
       if (!s.error.empty()) {
         std::printf("%4d error: %s\n", s.index, s.error.c_str());
         continue;
       }
-      std::printf("%4d %6d %8d %9.1f %9.1f %8d %8d %7d %8.3f\n", s.index, s.frames, s.feasible_frames,
-                  percent(s.on_feasible, s.feasible_frames), percent(s.raw_on_feasible, s.feasible_frames),
-                  s.switches, s.unwarranted, s.lock_frames,
-                  s.jitter_samples ? std::sqrt(s.jitter_sq_sum / s.jitter_samples) : 0.0);
+      std::printf("%4d %6d %8d %9.1f %9.1f %8d %8d %7d %8.3f %7d %6d %8d\n", s.index, s.frames,
+                  s.feasible_frames, percent(s.on_feasible, s.feasible_frames),
+                  percent(s.raw_on_feasible, s.feasible_frames), s.switches, s.unwarranted, s.lock_frames,
+                  s.jitter_samples ? std::sqrt(s.jitter_sq_sum / s.jitter_samples) : 0.0,
+                  s.misses.unlocked + s.misses.dropped, s.misses.wrong_in_view + s.misses.wrong_no_view,
+                  s.misses.doubtful_frames);
     }
     std::printf("\n");
   }
@@ -216,10 +323,11 @@ void print_scores(const std::vector<sequence_score>& scores, const totals& t, bo
               percent(t.on, t.feasible), percent(t.raw_on, t.feasible));
   std::printf("target switches: %d, of which the truth did not call for %d: %.2f per 100 frames\n",
               t.switches, t.unwarranted, t.frames ? 100.0 * t.unwarranted / t.frames : 0.0);
-  std::printf("  unwarranted by the tracker's reason: lost %d, infeasible %d, better %d\n",
-              t.by_reason[static_cast<int>(target_change_reason::lost)],
-              t.by_reason[static_cast<int>(target_change_reason::infeasible)],
-              t.by_reason[static_cast<int>(target_change_reason::better)]);
+  std::printf("  unwarranted by the tracker's reason:");
+  for (int k = 1; k < reason_count; ++k)
+    std::printf(" %s %d", std::string(to_string(static_cast<target_change_reason>(k))).c_str(), t.by_reason[k]);
+  std::printf("\n");
+  print_breakdown(t);
   std::printf("jitter (RMS distance from the target run's mean point on the tree / local diameter): %.3f\n",
               t.jitter_n ? std::sqrt(t.jitter_sq / t.jitter_n) : 0.0);
   std::printf("frames to lock after the first feasible view: median %d, max %d, within 5 frames %d of %zu "
@@ -231,7 +339,8 @@ void print_scores(const std::vector<sequence_score>& scores, const totals& t, bo
   if (t.errors) std::printf("errors: %d sequences\n", t.errors);
 }
 
-std::string json_of(const totals& t, int frames_per_sequence, std::string_view motion) {
+std::string json_of(const totals& t, int frames_per_sequence, std::string_view motion,
+                    st::tree_family family) {
   st::json_writer json;
   std::vector<int> locked;
   for (const int l : t.locks)
@@ -241,6 +350,7 @@ std::string json_of(const totals& t, int frames_per_sequence, std::string_view m
       .key("sequences").value(static_cast<std::int64_t>(t.sequences))
       .key("frames_per_sequence").value(static_cast<std::int64_t>(frames_per_sequence))
       .key("motion").value(motion)
+      .key("family").value(st::to_string(family))
       .key("frames").value(static_cast<std::int64_t>(t.frames))
       .key("feasible_frames").value(static_cast<std::int64_t>(t.feasible))
       .key("on_feasible_percent").value(percent(t.on, t.feasible))
@@ -252,41 +362,97 @@ std::string json_of(const totals& t, int frames_per_sequence, std::string_view m
       .key("lock_median_frames").value(static_cast<std::int64_t>(locked.empty() ? -1 : locked[locked.size() / 2]))
       .key("lock_max_frames").value(static_cast<std::int64_t>(locked.empty() ? -1 : locked.back()))
       .key("never_locked").value(static_cast<std::int64_t>(t.locks.size() - locked.size()))
+      .key("no_target_before_lock_frames").value(static_cast<std::int64_t>(t.misses.unlocked))
+      .key("no_target_after_drop_frames").value(static_cast<std::int64_t>(t.misses.dropped))
+      .key("wrong_target_frames").value(static_cast<std::int64_t>(t.misses.wrong_in_view))
+      .key("wrong_target_no_perch_frames").value(static_cast<std::int64_t>(t.misses.wrong_no_view))
+      .key("confident_wrong_target_frames")
+      .value(static_cast<std::int64_t>(t.misses.wrong_in_view + t.misses.wrong_no_view - t.misses.wrong_doubtful))
+      .key("doubtful_target_frames").value(static_cast<std::int64_t>(t.misses.doubtful_frames))
       .end_object();
   return std::move(json).take();
 }
 
-}  // namespace
+/// Scores `count` sequences of `family` on `jobs` threads.
+std::vector<sequence_score> score_family(std::size_t count, unsigned jobs, const eval_setup& setup, bool quiet) {
+  const unsigned workers = st::worker_count(count, jobs);
+  std::vector<std::unique_ptr<workspace>> spaces;
+  for (unsigned w = 0; w < workers; ++w) spaces.push_back(std::make_unique<workspace>());
+  st::progress_options progress_options;
+  if (quiet) progress_options.display = st::progress_display::off;
+  st::progress_bar progress(count, progress_options);
+  std::vector<sequence_score> scores = st::parallel_map(count, jobs, [&](std::size_t i, unsigned worker) {
+    sequence_score s = score_sequence(static_cast<int>(i), setup, *spaces[worker]);
+    progress.tick();
+    return s;
+  });
+  progress.finish();
+  return scores;
+}
 
-int run_track_eval(int argc, const char* const* argv) {
-  st::arg_parser args(
-      "perch eval --sequences",
-      "Runs find_perch and the tracker on N synthetic approach sequences (one tree of the arcs\n"
-      "population each, filmed approaching from 3x to 1x the distance with drift, roll, shake and\n"
-      "segmentation noise) and scores the target against each frame's truth.");
-  args.add_option("sequences", "N", "number of sequences", "40");
-  args.add_option("frames", "F", "frames per sequence", "90");
-  args.add_option("motion", "SOURCE", "the tracker's camera motion: truth (as visual odometry would\n"
-                                      "give it), estimated (from the masks: motion_estimator) or none (identity)", "truth");
-  args.add_option("jobs", "N", "worker threads; 0 = all cores", "0", 'j');
-  args.add_option("json", "OUT.json", "also write the totals as JSON");
-  args.add_flag("rows", "one row per sequence");
-  args.add_flag("quiet", "no progress bar");
-  args.set_epilog(
+/// `--family`: arcs, colonisation or both.
+std::vector<st::tree_family> families_of(const std::string& name) {
+  if (name == "arcs") return {st::tree_family::arcs};
+  if (name == "colonisation") return {st::tree_family::colonisation};
+  if (name == "both") return {st::tree_family::arcs, st::tree_family::colonisation};
+  return {};
+}
+
+/// `--json`: one object per family, or the one family's object.
+std::string json_of(const std::vector<std::string>& objects) {
+  if (objects.size() == 1) return objects.front();
+  std::string out = "[";
+  for (std::size_t i = 0; i < objects.size(); ++i) out += (i ? "," : "") + objects[i];
+  return out + "]";
+}
+
+/// What `perch eval --sequences --help` says about the scores.
+constexpr const char* eval_epilog =
       "find_perch gets each frame's true scale (fixed_scale) and roll (perch_options::camera).\n"
       "On a feasible stretch: within 3 px + 3 % of the window of a feasible window centre of the\n"
       "frame's truth. A switch away from a target is unwarranted when the old target, moved with\n"
       "the camera, is still in view and on a feasible stretch. Jitter: per run of one target id,\n"
       "the RMS distance of the target from the run's mean point (in the tree's own pixels) over\n"
       "the local truth diameter. Lock: frames from the first frame with a feasible stretch to the\n"
-      "first frame whose target is on one.\n"
-      "Example: perch eval --sequences 40 --frames 90 --rows");
+      "first frame whose target is on one. The frames with a feasible stretch whose target is on\n"
+      "none are broken down into (a) no target and (b) a target on no feasible stretch (the\n"
+      "worst case: a confident wrong target), by how the target was matched and by the truth's\n"
+      "verdict at its spot.\n"
+      "Example: perch eval --sequences 40 --frames 90 --family both --rows";
+
+}  // namespace
+
+int run_track_eval(int argc, const char* const* argv) {
+  st::arg_parser args(
+      "perch eval --sequences",
+      "Runs find_perch and the tracker on N synthetic approach sequences (one tree of the\n"
+      "population each, filmed approaching from 3x to 1x the distance with drift, roll, shake and\n"
+      "segmentation noise) and scores the target against each frame's truth.");
+  args.add_option("sequences", "N", "number of sequences (per family)", "40");
+  args.add_option("frames", "F", "frames per sequence", "90");
+  args.add_option("family", "F", "the population family: arcs, colonisation or both", "arcs");
+  args.add_option("motion", "SOURCE", "the tracker's camera motion: truth (as visual odometry would\n"
+                                      "give it), estimated (from the masks: motion_estimator) or none (identity)", "truth");
+  const tracker_options defaults;
+  args.add_option("doubtful-frames", "N", "tracker_options::doubtful_frames: frames a target may stay\n"
+                                          "while its spot misses a rule within the rule's noise",
+                  std::to_string(defaults.doubtful_frames));
+  args.add_option("infeasible-frames", "N", "tracker_options::infeasible_frames: near-miss frames beyond\n"
+                                            "the rule's noise before the target is left",
+                  std::to_string(defaults.infeasible_frames));
+  args.add_option("jobs", "N", "worker threads; 0 = all cores", "0", 'j');
+  args.add_option("json", "OUT.json", "also write the totals as JSON (an array with --family both)");
+  args.add_flag("rows", "one row per sequence");
+  args.add_flag("quiet", "no progress bar");
+  args.set_epilog(eval_epilog);
   int exit = exit_ok;
   if (!parse_or_exit(args, argc, argv, "eval", exit)) return exit;
   const auto n = args.get_int("sequences", 40, 1, 100000);
   const auto frames = args.get_int("frames", 90, 2, 100000);
   const auto jobs = args.get_int("jobs", 0, 0, 1024);
-  for (const auto* v : {&n, &frames, &jobs})
+  const auto doubtful = args.get_int("doubtful-frames", static_cast<int>(defaults.doubtful_frames), 1, 100000);
+  const auto infeasible = args.get_int("infeasible-frames", static_cast<int>(defaults.infeasible_frames), 1, 100000);
+  for (const auto* v : {&n, &frames, &jobs, &doubtful, &infeasible})
     if (!*v) {
       report_error("eval", v->error);
       return exit_usage;
@@ -296,37 +462,39 @@ int run_track_eval(int argc, const char* const* argv) {
     report_error("eval", "--motion must be truth, estimated or none, not " + motion);
     return exit_usage;
   }
-  const motion_source source = motion == "truth"       ? motion_source::truth
-                               : motion == "estimated" ? motion_source::estimated
-                                                       : motion_source::none;
-  st::sequence_options options;
-  options.frames = frames.value;
-  const auto count = static_cast<std::size_t>(n.value);
-  const unsigned workers = st::worker_count(count, static_cast<unsigned>(jobs.value));
-  std::vector<std::unique_ptr<workspace>> spaces;
-  for (unsigned w = 0; w < workers; ++w) spaces.push_back(std::make_unique<workspace>());
-  st::progress_options progress_options;
-  if (args.flag("quiet")) progress_options.display = st::progress_display::off;
-  st::progress_bar progress(count, progress_options);
-  const std::vector<sequence_score> scores =
-      st::parallel_map(count, static_cast<unsigned>(jobs.value), [&](std::size_t i, unsigned worker) {
-        sequence_score s = score_sequence(static_cast<int>(i), options, source, *spaces[worker]);
-        progress.tick();
-        return s;
-      });
-  progress.finish();
-  const totals t = add_up(scores);
-  std::printf("perch eval --sequences: %d sequences of %d frames, motion %s\n\n", n.value, frames.value,
-              motion.c_str());
-  print_scores(scores, t, args.flag("rows"));
-  if (args.has("json")) {
-    if (const std::string e = write_text(std::string(*args.value("json")), json_of(t, frames.value, motion));
-        !e.empty()) {
+  const std::string family_name = args.get_string("family", "arcs").value;
+  const std::vector<st::tree_family> families = families_of(family_name);
+  if (families.empty()) {
+    report_error("eval", "--family must be arcs, colonisation or both, not " + family_name);
+    return exit_usage;
+  }
+  eval_setup setup;
+  setup.source = motion == "truth"       ? motion_source::truth
+                 : motion == "estimated" ? motion_source::estimated
+                                         : motion_source::none;
+  setup.sequence.frames = frames.value;
+  setup.tracker.doubtful_frames = static_cast<std::uint32_t>(doubtful.value);
+  setup.tracker.infeasible_frames = static_cast<std::uint32_t>(infeasible.value);
+  std::vector<std::string> objects;
+  int errors = 0;
+  for (const st::tree_family family : families) {
+    setup.family = family;
+    const std::vector<sequence_score> scores =
+        score_family(static_cast<std::size_t>(n.value), static_cast<unsigned>(jobs.value), setup, args.flag("quiet"));
+    const totals t = add_up(scores);
+    std::printf("perch eval --sequences: %d sequences of %d frames, %s family, motion %s\n\n", n.value,
+                frames.value, std::string(st::to_string(family)).c_str(), motion.c_str());
+    print_scores(scores, t, args.flag("rows"));
+    std::printf("\n");
+    objects.push_back(json_of(t, frames.value, motion, family));
+    errors += t.errors;
+  }
+  if (args.has("json"))
+    if (const std::string e = write_text(std::string(*args.value("json")), json_of(objects)); !e.empty()) {
       report_error("eval", e);
       return exit_internal;
     }
-  }
-  return t.errors > 0 ? exit_internal : exit_ok;
+  return errors > 0 ? exit_internal : exit_ok;
 }
 
 }  // namespace perch::tool

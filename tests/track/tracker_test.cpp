@@ -11,6 +11,7 @@
 #include <cstring>
 #include <deque>
 #include <limits>
+#include <string_view>
 #include <vector>
 
 #include "allocation_counter.hpp"
@@ -205,6 +206,7 @@ TEST_CASE("a target matched to a near miss for infeasible_frames frames is left,
   perch::near_miss miss;
   miss.constraint = "max_slope";
   miss.unit = "deg";
+  miss.miss = 6.0f;  // three times the slope's measurement noise
   miss.present = true;
   miss.window = site_at(a, 3.0f, 0).window;
   for (std::uint32_t f = 0; f < o.infeasible_frames; ++f) {
@@ -214,6 +216,111 @@ TEST_CASE("a target matched to a near miss for infeasible_frames frames is left,
   CHECK(r.change.from == target);
   CHECK(r.change.reason == perch::target_change_reason::infeasible);
   CHECK(r.change.constraint == "max_slope");
+  CHECK(r.change.miss == 6.0f);
+  CHECK(r.change.frames == o.infeasible_frames);
+}
+
+namespace {
+
+/// A tracker whose target is the site at `a` (penalty 0.1), with a worse site at `b` in view.
+struct doubt_fixture {
+  perch::tracker_options options;
+  perch::perch_tracker tracker{options};
+  point2f a{150, 200}, b{450, 300};
+  std::uint32_t target = 0;
+
+  doubt_fixture() {
+    perch::tracking_result r;
+    for (std::uint32_t f = 0; f < options.confirm_frames + 1; ++f)
+      r = tracker.update(frame_of({site_at(a, 0.0f, 0.1f), site_at(b, 0.0f, 0.4f)}));
+    REQUIRE(r.target != nullptr);
+    target = r.target->id;
+  }
+
+  /// A frame where the target's spot is a near miss of `rule` by `by` (only `b` feasible).
+  perch::tracking_result miss(std::string_view rule, std::string_view unit, float by) {
+    perch::near_miss m;
+    m.constraint = rule;
+    m.unit = unit;
+    m.miss = by;
+    m.present = true;
+    m.window = site_at(a, 1.0f, 0).window;
+    m.window.mm_per_px = 3.0f;
+    return tracker.update(frame_of({site_at(b, 0.0f, 0.4f)}, {m}));
+  }
+};
+
+}  // namespace
+
+TEST_CASE("a target whose spot misses a rule within its noise stays, doubtful, for doubtful_frames") {
+  doubt_fixture fx;
+  REQUIRE(fx.options.doubtful_frames > fx.options.infeasible_frames);
+  perch::tracking_result r;
+  // The slope's noise is 2 degrees: a 1.5 degree miss is the mask's flicker.
+  for (std::uint32_t f = 0; f + 1 < fx.options.doubtful_frames; ++f) {
+    r = fx.miss("max_slope", "deg", 1.5f);
+    CHECK(!r.changed);
+    REQUIRE(r.target != nullptr);
+    CHECK(r.target->id == fx.target);
+    CHECK(r.target->doubtful);
+    CHECK(r.target->marginal);
+    CHECK(r.target->failed_constraint == "max_slope");
+    CHECK(r.target->failed_by == 1.5f);
+  }
+  // One frame more and it is too long to be flicker: left, saying why.
+  r = fx.miss("max_slope", "deg", 1.5f);
+  CHECK(r.changed);
+  CHECK(r.change.from == fx.target);
+  CHECK(r.change.reason == perch::target_change_reason::doubtful);
+  CHECK(r.change.constraint == "max_slope");
+  CHECK(r.change.frames == fx.options.doubtful_frames);
+  REQUIRE(r.target != nullptr);
+  CHECK(r.target->id != fx.target);
+  CHECK(!r.target->doubtful);
+}
+
+TEST_CASE("a miss beyond the rule's noise is never kept past infeasible_frames") {
+  SUBCASE("a large miss after small ones leaves at once when the streak is long enough") {
+    doubt_fixture fx;
+    for (std::uint32_t f = 0; f + 1 < fx.options.infeasible_frames; ++f)
+      CHECK(!fx.miss("clearance", "mm", 3.0f).changed);  // 1 px at 3 mm/px: within 2 px
+    const auto r = fx.miss("clearance", "mm", 9.0f);     // 3 px: beyond
+    CHECK(r.changed);
+    CHECK(r.change.reason == perch::target_change_reason::infeasible);
+    CHECK(r.change.miss == 9.0f);
+  }
+  SUBCASE("a rule with no known noise counts in full") {
+    doubt_fixture fx;
+    perch::tracking_result r;
+    for (std::uint32_t f = 0; f < fx.options.infeasible_frames; ++f) {
+      r = fx.miss("supported", "", 1.0f);
+      CHECK(r.target != nullptr);
+      if (!r.changed) CHECK(r.target->doubtful);
+      if (!r.changed) CHECK(!r.target->marginal);
+    }
+    CHECK(r.changed);
+    CHECK(r.change.reason == perch::target_change_reason::infeasible);
+  }
+  SUBCASE("a feasible match clears the doubt and the streak") {
+    doubt_fixture fx;
+    for (int f = 0; f < 3; ++f) CHECK(fx.miss("max_slope", "deg", 1.0f).target->doubtful);
+    const auto r =
+        fx.tracker.update(frame_of({site_at(fx.a, 0.0f, 0.1f), site_at(fx.b, 0.0f, 0.4f)}));
+    REQUIRE(r.target != nullptr);
+    CHECK(r.target->id == fx.target);
+    CHECK(!r.target->doubtful);
+    CHECK(r.target->infeasible_streak == 0);
+  }
+}
+
+TEST_CASE("measurement_noise: per rule, in the rule's unit, none for an unknown rule") {
+  CHECK(perch::measurement_noise("clearance", "mm", 4.0f) == 8.0f);  // 2 px at 4 mm/px
+  CHECK(perch::measurement_noise("resolution", "px", 4.0f) == 0.5f);
+  CHECK(perch::measurement_noise("max_slope", "deg", 4.0f) == 2.0f);
+  CHECK(perch::measurement_noise("supported", "", 4.0f) == 0.0f);
+  CHECK(perch::measurement_noise("my_rule", "mm", 4.0f) == 0.0f);
+  CHECK(perch::measurement_noise("clearance", "mm", std::numeric_limits<float>::quiet_NaN()) == 0.0f);
+  CHECK(perch::measurement_noise("clearance", "mm", -1.0f) == 0.0f);
 }
 
 TEST_CASE("bad input: a clear status, and the tracks age instead of vanishing") {

@@ -280,13 +280,14 @@ class approach_sequence {
   return spec;
 }
 
-/// Sequence `i` of the evaluation set: an arcs-family member that offers a perch (the 85 % of
-/// the population wished one), filmed with seed `i`.
-[[nodiscard]] inline approach_sequence evaluation_sequence(int i, sequence_options options = {}) {
+/// Sequence `i` of the evaluation set of `family`: the `i`-th member that offers a perch (the
+/// 85 % of the population wished one), filmed with seed `i`.
+[[nodiscard]] inline approach_sequence evaluation_sequence(int i, sequence_options options = {},
+                                                           tree_family family = tree_family::arcs) {
   int member = 0;
   for (int seen = 0;; ++member)
     if (wishes_perch(member) && seen++ == i) break;
-  const population_member m = population_tree(tree_family::arcs, member);
+  const population_member m = population_tree(family, member);
   options.seed = static_cast<std::uint32_t>(i) + 1u;
   return approach_sequence(m.tree, options);
 }

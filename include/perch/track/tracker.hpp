@@ -21,6 +21,7 @@
 #include "perch/core/result.hpp"
 #include "perch/pipeline.hpp"
 #include "perch/track/motion.hpp"
+#include "perch/track/rule_noise.hpp"
 
 namespace perch {
 
@@ -66,8 +67,11 @@ enum class track_state : std::uint8_t { tentative, confirmed, lost };
 enum class target_change_reason : std::uint8_t {
   acquired,    ///< there was no target; this confirmed track is the best
   lost,        ///< the target was not seen for `drop_frames` frames
-  infeasible,  ///< the target's site failed a constraint for `infeasible_frames` frames
+  infeasible,  ///< the target's site failed a constraint by more than its measurement noise
+               ///< (`measurement_noise`), `infeasible_frames` near-miss frames in a row
   better,      ///< another track was better by `switch_margin` for `switch_frames` frames
+  doubtful,    ///< the target's site failed a constraint within its noise `doubtful_frames`
+               ///< frames in a row: too long to be the mask's flicker
 };
 
 [[nodiscard]] constexpr std::string_view to_string(target_change_reason r) noexcept {
@@ -76,6 +80,7 @@ enum class target_change_reason : std::uint8_t {
     case target_change_reason::lost: return "lost";
     case target_change_reason::infeasible: return "infeasible";
     case target_change_reason::better: return "better";
+    case target_change_reason::doubtful: return "doubtful";
   }
   return "unknown";
 }
@@ -100,9 +105,16 @@ struct tracker_options {
   /// switches, but a better site takes over later.
   std::uint32_t switch_frames = 8;
   /// Frames in a row the target's site must fail a constraint (matched to a near miss) before
-  /// it is replaced. More: a one-frame mismeasure keeps the target; fewer: a truly infeasible
-  /// target is left sooner.
+  /// it is replaced, when the last miss is larger than the rule's measurement noise
+  /// (`measurement_noise`). More: a one-frame mismeasure keeps the target; fewer: a truly
+  /// infeasible target is left sooner.
   std::uint32_t infeasible_frames = 3;
+  /// Frames in a row the target may stay (flagged `doubtful`) while its site fails a constraint
+  /// by no more than the rule's measurement noise: a margin that flickers with the mask's
+  /// noise, not a limb that changed. Never more: a miss that lasts is real. More: fewer
+  /// switches away from a target the truth still calls feasible; fewer: a target that truly
+  /// turned marginal is left sooner.
+  std::uint32_t doubtful_frames = 5;
   /// Weight of a new measurement across the limb (0, 1]: the rest is the motion's prediction.
   /// Less: steadier position, but slower to correct a wrong motion.
   float across_gain = 0.5f;
@@ -125,7 +137,8 @@ struct tracker_options {
   float axis_gate_deg = 30.0f;
 
   [[nodiscard]] status validate() const noexcept {
-    if (confirm_frames == 0 || drop_frames == 0 || switch_frames == 0 || infeasible_frames == 0)
+    if (confirm_frames == 0 || drop_frames == 0 || switch_frames == 0 || infeasible_frames == 0 ||
+        doubtful_frames == 0)
       return fail(errc::invalid_parameter, "tracker_options: frame counts must be >= 1");
     for (const float g : {across_gain, along_gain, measure_gain})
       if (!(g > 0 && g <= 1)) return fail(errc::invalid_parameter, "tracker_options gains");
@@ -157,6 +170,13 @@ struct perch_track {
   bool feasible = true;        ///< its last match was a ranked site (not a near miss)
   std::uint32_t infeasible_streak = 0;    ///< frames in a row matched to a near miss
   std::string_view failed_constraint{};   ///< the near miss's constraint, when not feasible
+  std::string_view failed_unit{};         ///< its unit
+  float failed_by = 0;                    ///< by how much it missed, in `failed_unit`
+  bool marginal = false;  ///< not feasible, but by no more than the rule's measurement noise
+  /// The target, kept though its last match failed a rule: within the rule's noise for fewer
+  /// than `doubtful_frames` frames, or beyond it for fewer than `infeasible_frames`. Only the
+  /// target is ever doubtful; a planner should not commit to the grasp while it is.
+  bool doubtful = false;
   std::uint32_t better_streak = 0;  ///< frames in a row it beat the target by the margin
   point3f position_m = point3f::Zero();  ///< smoothed camera-frame position (with depth)
   bool has_position = false;
@@ -168,7 +188,10 @@ struct target_change {
   std::uint32_t from = 0;
   std::uint32_t to = 0;
   target_change_reason reason = target_change_reason::acquired;
-  std::string_view constraint{};  ///< for `infeasible`: the constraint the old target failed
+  std::string_view constraint{};  ///< for `infeasible`, `doubtful`: the rule the old target failed
+  std::string_view unit{};        ///< its unit
+  float miss = 0;                 ///< by how much, in the last frame
+  std::uint32_t frames = 0;       ///< near-miss frames in a row before it was left
 };
 
 /// What `perch_tracker::update` says about a frame. Spans point into the tracker: valid until
@@ -265,7 +288,9 @@ class perch_tracker {
     point3f position_m;
     bool has_position;
     bool feasible;
-    std::string_view constraint;
+    std::string_view constraint, unit;
+    float miss;   // by how much a near miss failed, in `unit`
+    float noise;  // the rule's measurement noise there, in `unit`
     std::int32_t track;  // matched track index, -1 none
   };
   /// How far along the limb, in windows, a near miss speaks for a track's spot.
@@ -302,19 +327,29 @@ class perch_tracker {
       const point2f p = motion.apply(t.position_px);
       const point2f d = b - a;
       const float n = d.norm();
-      if (std::isfinite(p.x()) && std::isfinite(p.y()) && n > 0 && std::isfinite(n)) {
+      const float window = t.window_px * (n / (2.0f * half));
+      // A motion that sends the track to infinity (a huge or projective one) leaves it where
+      // it was: it ages and is lost rather than carry a position no site can match.
+      if (p.allFinite() && n > 0 && std::isfinite(n) && std::isfinite(window)) {
         t.position_px = p;
         t.axis = d / n;
-        t.window_px = t.window_px * n / (2.0f * half);
+        t.window_px = window;
         t.heading_deg = heading_deg(t.axis);
       }
       t.matched = false;
     }
   }
 
-  void add_candidate(const window_measures& w, float penalty, bool feasible,
-                     std::string_view constraint) noexcept {
-    if (candidate_count_ == max_candidates) return;
+  /// A window with every measure the tracker smooths finite: anything else (a result not from
+  /// `find_perch`, or corrupted) would poison a track's smoothed values for good.
+  [[nodiscard]] static bool usable(const window_measures& w, float penalty) noexcept {
+    for (const float v : {w.heading_deg, w.slope_deg, w.claw_diameter_mm, penalty})
+      if (!std::isfinite(v)) return false;
+    return true;
+  }
+
+  void add_candidate(const window_measures& w, float penalty, const near_miss* failed) noexcept {
+    if (candidate_count_ == max_candidates || !usable(w, penalty)) return;
     const point2f base = to_point(w.base_end), tip = to_point(w.tip_end);
     point2f axis = tip - base;
     float length = axis.norm();
@@ -325,10 +360,16 @@ class perch_tracker {
       axis = point2f(std::cos(a), -std::sin(a));
       length = 1.0f;
     }
-    candidates_[candidate_count_++] = {to_point(w.centre), axis, length,  w.heading_deg,
-                                       w.slope_deg,        w.claw_diameter_mm, penalty,
-                                       w.position_m,       w.has_position, feasible,
-                                       constraint,         -1};
+    if (!axis.allFinite()) return;  // a heading too large for its cosine to mean anything
+    candidate& c = candidates_[candidate_count_++];
+    const bool has_position = w.has_position && w.position_m.allFinite();
+    c = {to_point(w.centre), axis, length, w.heading_deg, w.slope_deg, w.claw_diameter_mm, penalty,
+         w.position_m, has_position, failed == nullptr, {}, {}, 0, 0, -1};
+    if (failed == nullptr) return;
+    c.constraint = failed->constraint;
+    c.unit = failed->unit;
+    c.miss = failed->miss;
+    c.noise = measurement_noise(failed->constraint, failed->unit, w.mm_per_px);
   }
 
   void gather_candidates(const perch_result& frame) noexcept {
@@ -336,12 +377,12 @@ class perch_tracker {
     offered_ = 0;
     for (const perch_site& s : frame.sites) {
       ++offered_;
-      add_candidate(s.window, s.penalty, true, {});
+      add_candidate(s.window, s.penalty, nullptr);
     }
     for (const near_miss& m : frame.near_misses) {
       if (!m.present) continue;
       ++offered_;
-      add_candidate(m.window, 1.0f, false, m.constraint);
+      add_candidate(m.window, 1.0f, &m);
     }
   }
 
@@ -413,6 +454,9 @@ class perch_tracker {
     }
     t.feasible = c.feasible;
     t.failed_constraint = c.constraint;
+    t.failed_unit = c.unit;
+    t.failed_by = c.miss;
+    t.marginal = !c.feasible && c.miss <= c.noise;  // false for a NaN miss
     t.infeasible_streak = c.feasible ? 0 : t.infeasible_streak + 1;
     ++t.hits;
     ++t.streak;
@@ -531,17 +575,35 @@ class perch_tracker {
     return best;
   }
 
+  /// Whether the target's site has failed a rule for too long, and then why: beyond the rule's
+  /// measurement noise for `infeasible_frames` near-miss frames in a row, within it (every
+  /// frame of the streak counts, whatever its miss) for `doubtful_frames`.
+  [[nodiscard]] bool failed_too_long(const perch_track& t, target_change& change) const noexcept {
+    const std::uint32_t limit = t.marginal ? options_.doubtful_frames : options_.infeasible_frames;
+    if (t.feasible || t.infeasible_streak < limit) return false;
+    change.reason = t.marginal ? target_change_reason::doubtful : target_change_reason::infeasible;
+    change.constraint = t.failed_constraint;
+    change.unit = t.failed_unit;
+    change.miss = t.failed_by;
+    change.frames = t.infeasible_streak;
+    return true;
+  }
+
   /// Keeps the target or changes it, saying why; `change` is filled when it changed.
   bool choose_target(target_change& change) noexcept {
+    const bool changed = retarget(change);
+    for (std::size_t i = 0; i < count_; ++i)
+      tracks_[i].doubtful = tracks_[i].id == target_id_ && !tracks_[i].feasible;
+    return changed;
+  }
+
+  bool retarget(target_change& change) noexcept {
     perch_track* target = find(target_id_);
     bool leave = false;
     if (target != nullptr && target->state == track_state::lost) {
       change.reason = target_change_reason::lost;
       leave = true;
-    } else if (target != nullptr && !target->feasible &&
-               target->infeasible_streak >= options_.infeasible_frames) {
-      change.reason = target_change_reason::infeasible;
-      change.constraint = target->failed_constraint;
+    } else if (target != nullptr && failed_too_long(*target, change)) {
       leave = true;
     } else if (target == nullptr && target_id_ != 0) {
       change.reason = target_change_reason::lost;
@@ -578,7 +640,7 @@ class perch_tracker {
         winner = &t;
     }
     if (winner == nullptr) return false;
-    change = {target.id, winner->id, target_change_reason::better, {}};
+    change = {target.id, winner->id, target_change_reason::better, {}, {}, 0, 0};
     target_id_ = winner->id;
     for (std::size_t i = 0; i < count_; ++i) tracks_[i].better_streak = 0;
     return true;
