@@ -106,7 +106,7 @@ struct skeleton_branch {
 };
 
 /// Options of `build_skeleton_graph`: capacities (0 = as many as the skeleton can need, i.e.
-/// one node and one edge per skeleton pixel).
+/// one node and one edge per skeleton pixel; a larger capacity is lowered to that).
 struct graph_options {
   std::size_t max_nodes = 0;
   std::size_t max_branches = 0;
