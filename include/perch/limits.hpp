@@ -25,6 +25,14 @@ struct perch_limits {
   /// Skeleton pixels of the analysed mask (`perch_result::graph.skeleton_pixels()`, counted
   /// before pruning); 0: no limit (at most every pixel of the analysed frame).
   std::size_t skeleton_pixels = 0;
+  /// Nodes of the skeleton graph as built (`perch_result::graph.topology().node_id_end()`:
+  /// pruning removes nodes and adds none); 0: no limit (one per skeleton pixel). Everything
+  /// from the graph on grows with it and `graph_branches`, far less than with the pixels on a
+  /// bushy tree.
+  std::size_t graph_nodes = 0;
+  /// Branches of the skeleton graph as built (`perch_result::graph.topology().edge_id_end()`:
+  /// pruning's merges reuse ids); 0: no limit (one per skeleton pixel).
+  std::size_t graph_branches = 0;
   /// Windows held at once over the whole tree (`perch_result::windows_held`; never 0).
   std::size_t windows = std::size_t{1} << 18;
 

@@ -315,7 +315,7 @@ template <Skeletoniser Skel, class Scale>
 }
 
 /// Stage 4: the skeleton graph, once its pixels are known to be within the stated limit (its
-/// memory grows with them).
+/// memory grows with them), built within the stated nodes and branches.
 template <class Scale>
 [[nodiscard]] status graph_stage(const perch_options& options, workspace& ws, perch_result& out,
                                  pipeline_state<Scale>& s) noexcept {
@@ -326,8 +326,17 @@ template <class Scale>
   }
   const image_view<const std::uint8_t> skeleton(s.skeleton);
   const image_view<const std::uint32_t> dist(s.dist);
-  auto built = s.listed != nullptr ? build_skeleton_graph(skeleton, dist, ws, {}, *s.listed)
-                                   : build_skeleton_graph(skeleton, dist, ws);
+  // The graph's storage is taken for the stated nodes and branches; the build stops at them.
+  const graph_options caps{.max_nodes = options.limits.graph_nodes,
+                           .max_branches = options.limits.graph_branches};
+  auto built = s.listed != nullptr ? build_skeleton_graph(skeleton, dist, ws, caps, *s.listed)
+                                   : build_skeleton_graph(skeleton, dist, ws, caps);
+  if (!built && built.error().code == errc::capacity_exceeded)  // only a stated cap is reachable
+    return fail(errc::capacity_exceeded,
+                built.error().detail == skeleton_graph_branches_detail
+                    ? "perch_options.limits.graph_branches"
+                    : "perch_options.limits.graph_nodes",
+                built.error().needed);
   PERCH_TRY(all_ok(built));
   out.graph = std::move(*built);
   return {};

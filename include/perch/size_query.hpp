@@ -30,26 +30,33 @@ namespace detail {
 inline constexpr std::size_t max_sized_constraints = 64;
 
 /// Bytes every stage from the skeleton graph on takes at most (summed: they give back only
-/// their own scratch), for `pixels` skeleton pixels and `windows` windows on a `w` × `h` frame.
-/// Every graph capacity is the skeleton's pixels, so nodes, edges, limbs and components are at
-/// most `pixels`; the limbs' points are their edges' pixels plus a node pixel per junction they
-/// run through (at most one per edge), so at most 2 × `pixels`, which bounds the longest
-/// stretch and the obstacle discs' pixels too; at most `sites` sites are ranked.
+/// their own scratch), for `pixels` skeleton pixels, a graph built with at most `nodes` nodes
+/// and `branches` branches (pruning adds neither), and `windows` windows on a `w` × `h` frame.
+/// Limbs are at most the branches (each live branch lies on one limb) and components at most
+/// the nodes (each has one). A limb's points are its branches' pixels (each skeleton pixel in
+/// at most one branch) plus a node pixel per junction it runs through (a join of two branch
+/// ends, fewer than its branches), so all limbs' points are at most `pixels` + `branches`,
+/// which bounds the longest stretch and the obstacle discs' pixels too; at most `sites` sites
+/// are ranked.
 [[nodiscard]] constexpr std::size_t after_skeleton_bytes(int w, int h, std::size_t pixels,
+                                                         std::size_t nodes, std::size_t branches,
                                                          std::size_t windows,
                                                          std::size_t sites) noexcept {
-  const std::size_t points = 2 * pixels;
-  std::size_t bytes = skeleton_graph_workspace_bytes(w, h, pixels);
+  const std::size_t points = pixels + branches;
+  std::size_t bytes = graph_storage_bytes(pixels, nodes, branches) +
+                      std::max({graph_build_scratch_bytes(pixels, nodes),
+                                graph_prune_scratch_bytes(nodes, branches),
+                                graph_distance_scratch_bytes(nodes)});
   // The scale's sample of the skeleton and its scratch.
   bytes += workspace::footprint<pixel>(pixels) + workspace::footprint<float>(pixels);
   // Limbs: distances to the trunk, continuations, the limbs and their stretches, grounded
   // components and their areas, obstacles, neighbourhoods (two floats per point).
-  bytes += workspace::footprint<float>(pixels) + workspace::footprint<std::int32_t>(2 * pixels) +
-           trace_limbs_workspace_bytes(pixels, points) +
-           workspace::footprint<branch_stretch>(pixels) +
-           workspace::footprint<std::uint8_t>(pixels) + workspace::footprint<float>(pixels) +
-           limb_obstacles_workspace_bytes(pixels, points, w, h) +
-           workspace::footprint<limb_neighbourhood>(pixels) +
+  bytes += workspace::footprint<float>(nodes) + workspace::footprint<std::int32_t>(2 * branches) +
+           trace_limbs_workspace_bytes(branches, points) +
+           workspace::footprint<branch_stretch>(branches) +
+           workspace::footprint<std::uint8_t>(nodes) + workspace::footprint<float>(nodes) +
+           limb_obstacles_workspace_bytes(branches, points, w, h) +
+           workspace::footprint<limb_neighbourhood>(branches) +
            2 * workspace::footprint<float>(points);
   // Windows, their scratch and diameters; the ranking's candidates, sites (twice: ranked, then
   // in input pixels) and per-constraint counts and near misses.
@@ -97,6 +104,9 @@ template <Skeletoniser... S>
   const std::size_t box = at_most(limits.box_pixels, frame);
   const std::size_t tree = at_most(limits.tree_pixels, box);
   const std::size_t skeleton = at_most(limits.skeleton_pixels, box);
+  // At most one node and one branch per skeleton pixel (`build_skeleton_graph` caps them so).
+  const std::size_t nodes = at_most(limits.graph_nodes, skeleton);
+  const std::size_t branches = at_most(limits.graph_branches, skeleton);
   const std::size_t runs = max_runs(box, h);
   const std::size_t held = workspace::footprint<std::uint8_t>(box) + reduction +
                            row_runs_workspace_bytes(h, runs) + depth +
@@ -107,9 +117,9 @@ template <Skeletoniser... S>
                                      static_cast<std::size_t>(h)});
   const std::size_t skeletonise = skeleton_workspace_bytes<S...>(
       static_cast<int>(side), static_cast<int>((box + side - 1) / side), tree);
-  const std::size_t scratch[] = {fill_holes_workspace_bytes(h, runs), distance_workspace_bytes(w, h),
-                                 skeletonise,
-                                 after_skeleton_bytes(w, h, skeleton, limits.windows, sites)};
+  const std::size_t scratch[] = {
+      fill_holes_workspace_bytes(h, runs), distance_workspace_bytes(w, h), skeletonise,
+      after_skeleton_bytes(w, h, skeleton, nodes, branches, limits.windows, sites)};
   std::size_t most_scratch = 0;
   for (const std::size_t s : scratch) most_scratch = s > most_scratch ? s : most_scratch;
   // An unaligned buffer loses up to one alignment to the workspace's first allocation.
@@ -165,10 +175,14 @@ template <Skeletoniser... S>
 /// with margin for the masks it lacks.
 [[nodiscard]] inline perch_limits measured_limits(const perch_result& result) noexcept {
   perch_limits out;
-  // At least 1 each: 0 skeleton pixels would state no limit.
+  // At least 1 each: 0 would state no limit.
   out.box_pixels = std::max<std::size_t>(result.mask.pixels.size(), 1);
   out.tree_pixels = std::max<std::size_t>(static_cast<std::size_t>(result.mask.tree_pixels), 1);
   out.skeleton_pixels = std::max<std::size_t>(result.graph.skeleton_pixels(), 1);
+  out.graph_nodes =
+      std::max<std::size_t>(static_cast<std::size_t>(result.graph.topology().node_id_end()), 1);
+  out.graph_branches =
+      std::max<std::size_t>(static_cast<std::size_t>(result.graph.topology().edge_id_end()), 1);
   out.windows = std::max<std::size_t>(result.windows_held, 1);
   return out;
 }

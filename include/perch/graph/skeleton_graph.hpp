@@ -5,6 +5,7 @@
 /// radius at each point; one graph for every connected component, each with its trunk node.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -105,7 +106,7 @@ struct skeleton_branch {
 };
 
 /// Options of `build_skeleton_graph`: capacities (0 = as many as the skeleton can need, i.e.
-/// one node and one edge per skeleton pixel).
+/// one node and one edge per skeleton pixel; a larger capacity is lowered to that).
 struct graph_options {
   std::size_t max_nodes = 0;
   std::size_t max_branches = 0;
@@ -428,6 +429,10 @@ inline status add_skeleton_nodes(skeleton_graph::topology_type& g, const skeleto
   return {};
 }
 
+/// `error::detail` of a build that met its branch cap (`graph_options::max_branches`); one
+/// that met its node cap names `adjacency_list`'s nodes.
+inline constexpr std::string_view skeleton_graph_branches_detail = "skeleton_graph branches";
+
 /// The branch polylines being written into the graph's first pool.
 struct branch_writer {
   std::span<pixel> points;
@@ -442,7 +447,7 @@ inline status trace_branch(skeleton_graph::topology_type& g, const skeleton_pixe
                            branch_writer& w, std::size_t start, std::size_t from_pixel,
                            node_id from) noexcept {
   if (static_cast<std::size_t>(g.edge_id_end()) == g.edge_capacity())
-    return fail(errc::capacity_exceeded, "skeleton_graph branches", g.edge_capacity() + 1);
+    return fail(errc::capacity_exceeded, skeleton_graph_branches_detail, g.edge_capacity() + 1);
   const auto id = static_cast<std::uint32_t>(g.edge_id_end());
   skeleton_edge_data d;
   d.line.offset = static_cast<std::uint32_t>(w.used);
@@ -708,8 +713,10 @@ template <BinaryView Skeleton>
   PERCH_TRY(same_size(skeleton, dist2));
   const row_runs* runs = within.spans(skeleton) ? &within : nullptr;
   const std::size_t n = detail::count_set_pixels(skeleton, runs);
-  const std::size_t node_cap = options.max_nodes != 0 ? options.max_nodes : n;
-  const std::size_t edge_cap = options.max_branches != 0 ? options.max_branches : n;
+  // A skeleton has at most one node and one branch per pixel: a larger cap would only waste
+  // memory (and a size query counts on these).
+  const std::size_t node_cap = options.max_nodes != 0 ? std::min(options.max_nodes, n) : n;
+  const std::size_t edge_cap = options.max_branches != 0 ? std::min(options.max_branches, n) : n;
 
   skeleton_graph out;
   using access = detail::skeleton_graph_access;
