@@ -227,7 +227,7 @@ struct pipeline_state {
   image_view<std::uint8_t> skeleton{};
   float mm_per_px = 0;                ///< global, analysed pixels
   std::span<float> node_distance{};   ///< per node, to its trunk
-  std::span<std::int32_t> next{};     ///< limb continuations
+  edge_continuations next{};          ///< limb continuations
   std::span<branch_stretch> stretches{};  ///< per limb, outside its end junctions
   std::span<std::uint8_t> grounded{};     ///< per component
   limb_obstacles obstacles{};
@@ -393,10 +393,10 @@ template <class Scale>
                                 pipeline_state<Scale>& s) noexcept {
   const skeleton_graph& graph = out.graph;
   auto node_distance = ws.allocate<float>(static_cast<std::size_t>(graph.topology().node_id_end()));
-  auto next = ws.allocate<std::int32_t>(2 * static_cast<std::size_t>(graph.topology().edge_id_end()));
+  auto next = ws.allocate<std::int32_t>(edge_continuations::ends_for(graph));
   PERCH_TRY(all_ok(node_distance, next));
   s.node_distance = *node_distance;
-  s.next = *next;
+  s.next = edge_continuations(*next);
   PERCH_TRY(distances_to_trunk(graph, s.node_distance, ws));
   limb_continuations(graph, s.next, options.limbs, options.obstacles.twig_radius_px(s.mm_per_px));
   auto traced = trace_limbs(graph, s.next, ws);

@@ -50,10 +50,10 @@ void analyse(surroundings& s, const image<std::uint8_t>& mask, float mm_per_px =
   s.result.emplace(std::move(*found));
   const perch::skeleton_graph& graph = s.found().graph;
   s.next.assign(2 * static_cast<std::size_t>(graph.topology().edge_id_end()), 0);
-  perch::limb_continuations(graph, s.next, perch::limb_options{});
+  perch::limb_continuations(graph, perch::edge_continuations(s.next), perch::limb_options{});
   s.stretches.clear();
-  for (const perch::skeleton_limb& l : s.found().limbs) s.stretches.push_back(perch::limb_stretch(graph, s.next, l));
-  auto obstacles = perch::find_limb_obstacles(graph, s.found().limbs, s.next, s.stretches,
+  for (const perch::skeleton_limb& l : s.found().limbs) s.stretches.push_back(perch::limb_stretch(graph, perch::edge_continuations(s.next), l));
+  auto obstacles = perch::find_limb_obstacles(graph, s.found().limbs, perch::edge_continuations(s.next), s.stretches,
                                               s.found().skeleton, s.found().dist2, nullptr,
                                               s.found().mm_per_px, s.own_ws, options);
   REQUIRE(obstacles);
@@ -400,13 +400,13 @@ TEST_CASE("limb_surroundings: a too-small borrowed workspace is a status") {
   std::vector<std::byte> buffer(bytes / 2);
   perch::workspace small{std::span<std::byte>(buffer)};
   auto obstacles =
-      perch::find_limb_obstacles(s.found().graph, s.found().limbs, s.next, s.stretches,
+      perch::find_limb_obstacles(s.found().graph, s.found().limbs, perch::edge_continuations(s.next), s.stretches,
                                  s.found().skeleton, s.found().dist2, nullptr, 2.0f, small);
   REQUIRE(!obstacles);
   CHECK(obstacles.error().code == perch::errc::workspace_too_small);
   // The size query is enough.
   std::vector<std::byte> enough(bytes + perch::workspace::alignment);
   perch::workspace fits{std::span<std::byte>(enough)};
-  CHECK(perch::find_limb_obstacles(s.found().graph, s.found().limbs, s.next, s.stretches,
+  CHECK(perch::find_limb_obstacles(s.found().graph, s.found().limbs, perch::edge_continuations(s.next), s.stretches,
                                    s.found().skeleton, s.found().dist2, nullptr, 2.0f, fits));
 }

@@ -43,8 +43,8 @@ void trace(const drawn_skeleton& d, traced& t, const perch::limb_options& option
   REQUIRE(g);
   t.graph = std::move(*g);
   t.next.assign(2 * static_cast<std::size_t>(t.graph.topology().edge_id_end()), 0);
-  perch::limb_continuations(t.graph, t.next, options);
-  auto limbs = perch::trace_limbs(t.graph, t.next, t.ws);
+  perch::limb_continuations(t.graph, perch::edge_continuations(t.next), options);
+  auto limbs = perch::trace_limbs(t.graph, perch::edge_continuations(t.next), t.ws);
   REQUIRE(limbs);
   t.limbs = *limbs;
 }

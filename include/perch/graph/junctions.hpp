@@ -282,10 +282,10 @@ template <class Index>
 /// its first and last edges there; a limb runs through its inner junctions untrimmed: only
 /// side twigs leave there). A closed limb keeps all its points.
 [[nodiscard]] inline branch_stretch limb_stretch(const skeleton_graph& graph,
-                                                 std::span<const std::int32_t> next,
+                                                 const edge_continuations& next,
                                                  const skeleton_limb& limb) noexcept {
   const std::size_t n = limb.points.size();
-  if (next[limb.first_end] >= 0) return {0, n};  // closed
+  if (next.joined(limb.first_end)) return {0, n};  // closed
   const skeleton_branch first = graph.branch(edge_of_end(limb.first_end));
   const bool first_at_from = is_from_end(limb.first_end);
   // Points trimmed at edge end `end` of edge `b` (`b`'s other end untrimmed unless `both`).

@@ -210,11 +210,11 @@ struct disc_table {
 /// Step 1 of `find_limb_obstacles`: a disc per limb point, of its distance-map radius, capped
 /// beside the junctions at its ends (`caps_of`); and each limb's owner set (itself).
 inline void place_limb_discs(const skeleton_graph& graph, std::span<const skeleton_limb> limbs,
-                             std::span<const std::int32_t> next, std::span<owner_set> own,
+                             const edge_continuations& next, std::span<owner_set> own,
                              disc_table& table) noexcept {
   for (std::size_t l = 0; l < limbs.size(); ++l) {
     const skeleton_limb& limb = limbs[l];
-    const bool closed = next[limb.first_end] >= 0;
+    const bool closed = next.joined(limb.first_end);
     own[l].ids[0] = static_cast<std::int32_t>(l);
     const junction_caps caps = caps_of(graph, limb, closed);
     for (std::size_t i = 0; i < limb.points.size(); ++i) {
@@ -308,13 +308,13 @@ inline void keep_obstacles(disc_table& table, float min_radius_px) noexcept {
 /// Step 6: the limbs leaving each limb at the junctions at its ends, from the fork on
 /// (`junction_disc`), when at least a twig thick, less ½ px.
 inline void place_junction_discs(const skeleton_graph& graph, std::span<const skeleton_limb> limbs,
-                                 std::span<const std::int32_t> next,
+                                 const edge_continuations& next,
                                  std::span<const branch_stretch> stretches, float min_radius_px,
                                  disc_table& table) noexcept {
   for (std::size_t l = 0; l < limbs.size(); ++l) {
     const skeleton_limb& limb = limbs[l];
     const branch_stretch s = stretches[l];
-    if (next[limb.first_end] >= 0 || s.count == 0) continue;
+    if (next.joined(limb.first_end) || s.count == 0) continue;
     for (const bool front : {true, false}) {
       const std::size_t i = front ? s.first : s.first + s.count - 1;
       owned_disc d = junction_disc(graph, limb, front ? limb.first_end : limb.last_end, front,
@@ -347,7 +347,7 @@ inline void place_junction_discs(const skeleton_graph& graph, std::span<const sk
 /// Complexity: O(skeleton pixels + cells).
 [[nodiscard]] inline result<limb_obstacles> find_limb_obstacles(
     const skeleton_graph& graph, std::span<const skeleton_limb> limbs,
-    std::span<const std::int32_t> next, std::span<const branch_stretch> stretches,
+    const edge_continuations& next, std::span<const branch_stretch> stretches,
     image_view<const std::uint8_t> skeleton, image_view<const std::uint32_t> dist2,
     const row_runs* runs, float mm_per_px, workspace& ws,
     const obstacle_options& options = {}) noexcept {

@@ -135,8 +135,44 @@ inline constexpr float straight_tolerance_px = 1.5f;
   return is_from_end(end) ? e.from : e.to;
 }
 
-/// For every edge end, the edge end that continues its limb through the node there, or -1:
-/// `next[edge_end_index(e, end)]` = edge_end_index(e', end') (symmetric). At a junction node
+/// Which edge carries a limb on through each node: for every edge end (`edge_end_index`), the
+/// edge end on the other side of the node that continues its limb there, or none. Joins are
+/// symmetric. A view over caller memory of 2 · `graph.topology().edge_id_end()` entries
+/// (`ends_for`), so the pipeline keeps it in its workspace.
+class edge_continuations {
+ public:
+  edge_continuations() noexcept = default;
+  explicit edge_continuations(std::span<std::int32_t> storage) noexcept : next_(storage) {}
+
+  /// Entries needed for `graph`: one per edge end.
+  [[nodiscard]] static std::size_t ends_for(const skeleton_graph& graph) noexcept {
+    return 2 * static_cast<std::size_t>(graph.topology().edge_id_end());
+  }
+  [[nodiscard]] std::size_t size() const noexcept { return next_.size(); }
+
+  /// Whether the limb carries on past edge end `end`.
+  [[nodiscard]] bool joined(std::size_t end) const noexcept { return next_[end] >= 0; }
+  /// The edge end that carries the limb on past `end` (only when `joined(end)`).
+  [[nodiscard]] std::size_t after(std::size_t end) const noexcept {
+    PERCH_ASSERT(joined(end), "edge_continuations::after: the limb ends here");
+    return static_cast<std::size_t>(next_[end]);
+  }
+  /// No edge end joined.
+  void clear() const noexcept {
+    for (std::int32_t& v : next_) v = none;
+  }
+  /// Joins edge ends `a` and `b` (both ways).
+  void join(std::size_t a, std::size_t b) const noexcept {
+    next_[a] = static_cast<std::int32_t>(b);
+    next_[b] = static_cast<std::int32_t>(a);
+  }
+
+ private:
+  static constexpr std::int32_t none = -1;
+  std::span<std::int32_t> next_{};
+};
+
+/// Joins, in `next`, the two edges at each junction that carry one limb through it. At a junction node
 /// whose incident edges are all distinct (no self-loop), two edges continue one another when
 /// they leave in nearly opposite directions (`max_turn_deg`) with similar thicknesses
 /// (`through_thickness_ratio_min`) and every other edge there is a side twig: a leaf edge of at
@@ -146,14 +182,13 @@ inline constexpr float straight_tolerance_px = 1.5f;
 /// or carries spurs: clutter a claw closes through, which the clearance does not count either;
 /// 0 for none); of several such pairs, the straightest. Directions and thicknesses are those of
 /// each edge just beyond the node (`leaving_axis_of`).
-/// `next` holds 2·`graph.topology().edge_id_end()` entries.
+/// `next` holds `edge_continuations::ends_for(graph)` entries.
 /// Complexity: O(Σ over junctions of degree² + points near the junctions).
-inline void limb_continuations(const skeleton_graph& graph, std::span<std::int32_t> next,
+inline void limb_continuations(const skeleton_graph& graph, const edge_continuations& next,
                                const limb_options& options = {},
                                float twig_radius_px = 0) noexcept {
-  PERCH_ASSERT(next.size() >= 2 * static_cast<std::size_t>(graph.topology().edge_id_end()),
-               "limb_continuations: next size");
-  for (auto& v : next) v = -1;
+  PERCH_ASSERT(next.size() >= edge_continuations::ends_for(graph), "limb_continuations: next size");
+  next.clear();
   constexpr std::size_t max_degree = 8;
   const float cos_max_turn =
       std::cos(options.max_turn_deg * std::numbers::pi_v<float> / 180.0f);
@@ -197,8 +232,7 @@ inline void limb_continuations(const skeleton_graph& graph, std::span<std::int32
       }
     }
     if (best_a == count) return;
-    next[static_cast<std::size_t>(ends[best_a])] = ends[best_b];
-    next[static_cast<std::size_t>(ends[best_b])] = ends[best_a];
+    next.join(static_cast<std::size_t>(ends[best_a]), static_cast<std::size_t>(ends[best_b]));
   });
 }
 
@@ -218,7 +252,7 @@ struct skeleton_limb {
   std::span<const edge_id> edge_at{};  ///< the edge of each point (a node pixel: the edge before)
   std::int32_t component = -1;
   /// The edge ends (`edge_end_index`) at the limb's first and last points, each at the node
-  /// the limb ends at; a closed limb has `next[first_end] >= 0`.
+  /// the limb ends at; a closed limb is joined past its first end (`next.joined(first_end)`).
   std::uint32_t first_end = 0;
   std::uint32_t last_end = 0;
 };
@@ -238,14 +272,14 @@ struct skeleton_limb {
 /// from the end reached by walking back from that edge through its `from` node.
 /// Errors: `workspace_too_small` for a borrowed workspace. Complexity: O(edges + points).
 [[nodiscard]] inline result<std::span<const skeleton_limb>> trace_limbs(
-    const skeleton_graph& graph, std::span<const std::int32_t> next, workspace& ws) noexcept {
+    const skeleton_graph& graph, const edge_continuations& next, workspace& ws) noexcept {
   const auto edge_end = static_cast<std::size_t>(graph.topology().edge_id_end());
-  PERCH_ASSERT(next.size() >= 2 * edge_end, "trace_limbs: next size");
+  PERCH_ASSERT(next.size() >= edge_continuations::ends_for(graph), "trace_limbs: next size");
   // The edges' points and one node pixel per junction walked through (seen from both ends).
   std::size_t total = 0, joined_ends = 0;
   graph.for_each_branch([&](const skeleton_branch& b) {
     total += b.points.size();
-    for (const int end : {0, 1}) joined_ends += next[edge_end_index(b.id, end)] >= 0 ? 1u : 0u;
+    for (const int end : {0, 1}) joined_ends += next.joined(edge_end_index(b.id, end)) ? 1u : 0u;
   });
   total += joined_ends / 2;
   auto limbs = ws.allocate<skeleton_limb>(graph.branch_count());
@@ -260,9 +294,8 @@ struct skeleton_limb {
     // Walk back through `from` to the limb's first edge end (round a closed limb: back to b).
     std::size_t first = edge_end_index(b.id, 0);
     for (std::size_t hops = 0; hops < edge_end; ++hops) {
-      const std::int32_t back = next[first];
-      if (back < 0 || edge_of_end(static_cast<std::size_t>(back)) == b.id) break;
-      first = other_end(static_cast<std::size_t>(back));
+      if (!next.joined(first) || edge_of_end(next.after(first)) == b.id) break;
+      first = other_end(next.after(first));
     }
     skeleton_limb limb;
     limb.component = b.component;
@@ -280,15 +313,14 @@ struct skeleton_limb {
         (*edges)[used++] = e;
       }
       limb.last_end = static_cast<std::uint32_t>(other_end(end));
-      const std::int32_t on = next[limb.last_end];
-      if (on < 0) break;
-      if ((*visited)[static_cast<std::size_t>(edge_of_end(static_cast<std::size_t>(on)))] != 0)
-        break;
+      if (!next.joined(limb.last_end)) break;
+      const std::size_t on = next.after(limb.last_end);
+      if ((*visited)[static_cast<std::size_t>(edge_of_end(on))] != 0) break;
       const skeleton_node node = graph.node(is_from_end(end) ? edge.to : edge.from);
       (*points)[used] = node.position;
       (*radii)[used] = node.radius_px;
       (*edges)[used++] = e;
-      end = static_cast<std::size_t>(on);
+      end = on;
     }
     limb.points = std::span<const pixel>(*points).subspan(start, used - start);
     limb.radius_px = std::span<const float>(*radii).subspan(start, used - start);
