@@ -476,10 +476,11 @@ void put_chunk(std::vector<std::uint8_t>& out, std::string_view type,
   put_u32(out, crc32(std::span<const std::uint8_t>(out.data() + start, out.size() - start)));
 }
 
-// `row_at(y, dst)` writes row y's unfiltered bytes (big-endian samples) into dst.
+// `row_at(y, dst)` writes row y's unfiltered bytes (big-endian samples) into dst. Returns the
+// zlib stream of the filtered rows (what IDAT, or an APNG frame's fdAT, carries).
 template <class RowFn>
-png_result<std::vector<std::uint8_t>> encode_rows(const raw_image& img,
-                                                  const write_options& options, RowFn row_at) {
+png_result<std::vector<std::uint8_t>> deflate_rows(const raw_image& img, const write_options& options,
+                                                   RowFn row_at) {
   const std::size_t n = std::size_t{img.width} * img.bytes_per_pixel;
   const std::size_t bpp = img.bytes_per_pixel;
   std::vector<std::uint8_t> filtered;
@@ -538,7 +539,14 @@ png_result<std::vector<std::uint8_t>> encode_rows(const raw_image& img,
   }
   deflateEnd(&z);
   compressed.resize(out_done);
+  return compressed;
+}
 
+// Data chunks are split at a fixed size: deterministic output.
+constexpr std::size_t data_chunk_size = std::size_t{1} << 20;
+
+// The signature and IHDR of `img`.
+std::vector<std::uint8_t> file_start(const raw_image& img) {
   std::vector<std::uint8_t> png(png_signature.begin(), png_signature.end());
   std::vector<std::uint8_t> ihdr;
   put_u32(ihdr, img.width);
@@ -549,17 +557,28 @@ png_result<std::vector<std::uint8_t>> encode_rows(const raw_image& img,
   ihdr.push_back(0);  // filter method 0
   ihdr.push_back(0);  // no interlace
   put_chunk(png, "IHDR", ihdr);
-  constexpr std::size_t idat_size = std::size_t{1} << 20;  // fixed split: deterministic output
-  for (std::size_t at = 0; at < compressed.size(); at += idat_size)
-    put_chunk(png, "IDAT",
-              std::span<const std::uint8_t>(compressed)
-                  .subspan(at, std::min(idat_size, compressed.size() - at)));
+  return png;
+}
+
+// `compressed` as IDAT chunks.
+void put_idat(std::vector<std::uint8_t>& png, std::span<const std::uint8_t> compressed) {
+  for (std::size_t at = 0; at < compressed.size(); at += data_chunk_size)
+    put_chunk(png, "IDAT", compressed.subspan(at, std::min(data_chunk_size, compressed.size() - at)));
+}
+
+template <class RowFn>
+png_result<std::vector<std::uint8_t>> encode_rows(const raw_image& img,
+                                                  const write_options& options, RowFn row_at) {
+  png_result<std::vector<std::uint8_t>> compressed = deflate_rows(img, options, row_at);
+  if (!compressed) return compressed.error();
+  std::vector<std::uint8_t> png = file_start(img);
+  put_idat(png, *compressed);
   put_chunk(png, "IEND", {});
   return png;
 }
 
 png_status write_file(const std::filesystem::path& path,
-                      png_result<std::vector<std::uint8_t>> encoded) {
+                      const png_result<std::vector<std::uint8_t>>& encoded) {
   if (!encoded) return encoded.error();
   std::ofstream file(path, std::ios::binary | std::ios::trunc);
   if (!file)
@@ -572,6 +591,15 @@ png_status write_file(const std::filesystem::path& path,
   file.close();
   if (!file) return make_error("writing '" + path.string() + "' failed (disk full?)");
   return {};
+}
+
+// An RGB row as the file's bytes.
+void pack_rgb_row(std::span<const rgb8> row, std::uint8_t* dst) noexcept {
+  for (const rgb8& p : row) {
+    *dst++ = p.r;
+    *dst++ = p.g;
+    *dst++ = p.b;
+  }
 }
 
 std::uint8_t scale16_to_8(std::uint16_t v) noexcept {
@@ -795,11 +823,7 @@ png_result<std::vector<std::uint8_t>> encode_png(image_view<const rgb8> rgb,
   const raw_image img{static_cast<std::uint32_t>(rgb.width()),
                       static_cast<std::uint32_t>(rgb.height()), 2, 8, 3};
   return encode_rows(img, options, [&rgb](std::uint32_t y, std::uint8_t* dst) {
-    for (const rgb8& p : rgb.row(static_cast<int>(y))) {
-      *dst++ = p.r;
-      *dst++ = p.g;
-      *dst++ = p.b;
-    }
+    pack_rgb_row(rgb.row(static_cast<int>(y)), dst);
   });
 }
 
@@ -829,6 +853,103 @@ png_status write_png(const std::filesystem::path& path, image_view<const rgb8> r
 png_status write_png(const std::filesystem::path& path, image_view<const std::uint16_t> gray,
                      const write_options& options) {
   return write_file(path, encode_png(gray, options));
+}
+
+// ---------------------------------------------------------------------------------------------
+// APNG (Animated PNG 1.0, https://wiki.mozilla.org/APNG_Specification): acTL after IHDR, then
+// per frame an fcTL and its data, IDAT for frame 0 (the default image) and fdAT for the others;
+// fcTL and fdAT share one sequence number counter from 0.
+
+png_status apng_encoder::add(image_view<const rgb8> frame, std::uint16_t delay_ms) {
+  if (auto e = check_view(frame.width(), frame.height(), validate_non_empty(frame))) return *e;
+  if (!frames_.empty() && (frame.width() != width_ || frame.height() != height_))
+    return make_error("animation frame " + std::to_string(frames_.size()) + " is " +
+                      std::to_string(frame.width()) + " x " + std::to_string(frame.height()) +
+                      ", the first frame is " + std::to_string(width_) + " x " + std::to_string(height_) +
+                      ": every frame of an animation must have the first frame's size");
+  // The rectangle where the frame differs from the one before (all of it for the first).
+  int x0 = 0, y0 = 0, x1 = frame.width() - 1, y1 = frame.height() - 1;
+  if (!frames_.empty() && options_.crop_to_changes) {
+    x0 = frame.width();
+    y0 = frame.height();
+    x1 = y1 = -1;
+    for (int y = 0; y < frame.height(); ++y) {
+      const auto row = frame.row(y);
+      const rgb8* before = previous_.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(width_);
+      for (int x = 0; x < frame.width(); ++x)
+        if (row[static_cast<std::size_t>(x)] != before[x]) {
+          x0 = std::min(x0, x);
+          x1 = std::max(x1, x);
+          y0 = std::min(y0, y);
+          y1 = std::max(y1, y);
+        }
+    }
+    if (x1 < 0) x0 = y0 = x1 = y1 = 0;  // the same picture: one pixel, unchanged
+  }
+  const image_view<const rgb8> region = frame.sub_view(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+  const raw_image img{static_cast<std::uint32_t>(region.width()), static_cast<std::uint32_t>(region.height()),
+                      2, 8, 3};
+  png_result<std::vector<std::uint8_t>> compressed =
+      deflate_rows(img, options_.png, [&region](std::uint32_t y, std::uint8_t* dst) {
+        pack_rgb_row(region.row(static_cast<int>(y)), dst);
+      });
+  if (!compressed) return compressed.error();
+  width_ = frame.width();
+  height_ = frame.height();
+  previous_.resize(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
+  for (int y = 0; y < height_; ++y) {
+    const auto row = frame.row(y);
+    std::copy(row.begin(), row.end(), previous_.begin() + static_cast<std::ptrdiff_t>(y) * width_);
+  }
+  frames_.push_back(stored_frame{static_cast<std::uint32_t>(x0), static_cast<std::uint32_t>(y0),
+                                 img.width, img.height, delay_ms, std::move(*compressed)});
+  return {};
+}
+
+png_result<std::vector<std::uint8_t>> apng_encoder::finish() const {
+  if (frames_.empty()) return make_error("an animation needs at least one frame");
+  if (frames_.size() > 0x7FFFFFFFU) return make_error("too many animation frames");
+  std::vector<std::uint8_t> png =
+      file_start(raw_image{static_cast<std::uint32_t>(width_), static_cast<std::uint32_t>(height_), 2, 8, 3});
+  std::vector<std::uint8_t> data;
+  put_u32(data, static_cast<std::uint32_t>(frames_.size()));  // num_frames
+  put_u32(data, options_.plays);                              // num_plays, 0: forever
+  put_chunk(png, "acTL", data);
+  std::uint32_t sequence = 0;
+  for (std::size_t i = 0; i < frames_.size(); ++i) {
+    const stored_frame& f = frames_[i];
+    data.clear();
+    put_u32(data, sequence++);
+    put_u32(data, f.width);
+    put_u32(data, f.height);
+    put_u32(data, f.x);
+    put_u32(data, f.y);
+    data.push_back(static_cast<std::uint8_t>(f.delay_ms >> 8U));  // delay_num (ms)
+    data.push_back(static_cast<std::uint8_t>(f.delay_ms & 0xFFU));
+    data.push_back(static_cast<std::uint8_t>(1000U >> 8U));       // delay_den: 1000
+    data.push_back(static_cast<std::uint8_t>(1000U & 0xFFU));
+    data.push_back(0);  // dispose_op: none (the next frame draws over this one)
+    data.push_back(0);  // blend_op: source (the region is replaced, not blended)
+    put_chunk(png, "fcTL", data);
+    const std::span<const std::uint8_t> compressed(f.compressed);
+    if (i == 0) {
+      put_idat(png, compressed);
+      continue;
+    }
+    for (std::size_t at = 0; at < compressed.size(); at += data_chunk_size) {
+      data.clear();
+      put_u32(data, sequence++);
+      const auto piece = compressed.subspan(at, std::min(data_chunk_size, compressed.size() - at));
+      data.insert(data.end(), piece.begin(), piece.end());
+      put_chunk(png, "fdAT", data);
+    }
+  }
+  put_chunk(png, "IEND", {});
+  return png;
+}
+
+png_status write_apng(const std::filesystem::path& path, const apng_encoder& encoder) {
+  return write_file(path, encoder.finish());
 }
 
 }  // namespace perch::png

@@ -910,3 +910,177 @@ TEST_CASE("png corrupt: random edits with repaired CRCs never crash") {
   CHECK(successes > 100);
   CHECK(failures > 100);
 }
+
+// ---------------------------------------------------------------------------------------------
+// The APNG writer (png::apng_encoder), read back with this file's chunk walker, zlib's CRC and
+// the reader under test for each frame's pixels.
+
+namespace {
+
+using rgb_image = perch::image<png::rgb8>;
+
+rgb_image apng_test_frame(int w, int h, int seed) {
+  rgb_image img(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      img(x, y) = png::rgb8{static_cast<std::uint8_t>(x * 9 + seed), static_cast<std::uint8_t>(y * 13),
+                            static_cast<std::uint8_t>((x ^ y) + 3 * seed)};
+  return img;
+}
+
+bool same_pixels(const rgb_image& a, const rgb_image& b) {
+  if (a.width() != b.width() || a.height() != b.height()) return false;
+  for (int y = 0; y < a.height(); ++y)
+    for (int x = 0; x < a.width(); ++x)
+      if (a(x, y) != b(x, y)) return false;
+  return true;
+}
+
+struct apng_frame_control {
+  std::uint32_t sequence, width, height, x, y;
+  std::uint32_t delay_num, delay_den;
+  std::uint8_t dispose, blend;
+};
+
+/// Checks an APNG's structure (every CRC, chunk order, sequence numbers 0, 1, 2, ... over fcTL
+/// and fdAT, acTL's frame count) and replays it: returns every frame's full picture.
+std::vector<rgb_image> replay_apng(const bytes& file, std::vector<apng_frame_control>& controls) {
+  std::vector<rgb_image> frames;
+  REQUIRE(file.size() > 8);
+  REQUIRE(bytes(file.begin(), file.begin() + 8) == signature());
+  const std::vector<chunk_ref> chunks = list_chunks(file);
+  REQUIRE(chunks.size() >= 5);
+  std::size_t end = 8;
+  for (const chunk_ref& c : chunks) {
+    const auto crc = static_cast<std::uint32_t>(::crc32(0L, file.data() + c.at + 4, static_cast<uInt>(c.length + 4)));
+    CHECK_MESSAGE(get32(file, c.at + 8 + c.length) == crc, "bad CRC on " << c.type);
+    end = c.at + 12 + c.length;
+  }
+  CHECK(end == file.size());
+  CHECK(chunks.front().type == "IHDR");
+  CHECK(chunks[1].type == "acTL");
+  CHECK(chunks.back().type == "IEND");
+  const bytes ihdr(file.begin() + static_cast<std::ptrdiff_t>(chunks[0].at + 8),
+                   file.begin() + static_cast<std::ptrdiff_t>(chunks[0].at + 8 + chunks[0].length));
+  const std::uint32_t num_frames = get32(file, chunks[1].at + 8);
+  CHECK(get32(file, chunks[1].at + 12) == 0);  // plays forever
+  std::uint32_t next_sequence = 0;
+  bool idat_seen = false;
+  for (std::size_t i = 2; i + 1 < chunks.size(); ++i) {
+    const chunk_ref& c = chunks[i];
+    const std::size_t data = c.at + 8;
+    if (c.type == "IDAT") {
+      CHECK(controls.size() == 1);  // the default image is frame 0
+      idat_seen = true;
+      continue;
+    }
+    REQUIRE((c.type == "fcTL" || c.type == "fdAT"));
+    CHECK(get32(file, data) == next_sequence);
+    ++next_sequence;
+    if (c.type == "fdAT") continue;
+    REQUIRE(c.length == 26);
+    controls.push_back({get32(file, data), get32(file, data + 4), get32(file, data + 8), get32(file, data + 12),
+                        get32(file, data + 16), (std::uint32_t{file[data + 20]} << 8U) | file[data + 21],
+                        (std::uint32_t{file[data + 22]} << 8U) | file[data + 23], file[data + 24], file[data + 25]});
+  }
+  CHECK(idat_seen);
+  CHECK(controls.size() == num_frames);
+  // Frame 0 is the default image: what read_png sees.
+  const auto first = png::read_png(file);
+  REQUIRE(first.has_value());
+  rgb_image canvas = png::to_rgb8(*first);
+  frames.push_back(canvas);
+  // Frame k: its fdAT payloads (sequence numbers stripped) are a zlib stream of its region.
+  std::size_t frame = 0;
+  bytes stream;
+  const auto flush = [&](std::size_t k) {
+    if (k == 0) return;
+    const apng_frame_control& f = controls[k];
+    const bytes region_png = assemble({{"IHDR", ihdr_data(f.width, f.height, 8, 2, 0)}, {"IDAT", stream}, {"IEND", {}}});
+    const auto region = png::read_png(region_png);
+    REQUIRE(region.has_value());
+    REQUIRE(f.x + f.width <= static_cast<std::uint32_t>(canvas.width()));
+    REQUIRE(f.y + f.height <= static_cast<std::uint32_t>(canvas.height()));
+    const rgb_image pixels = png::to_rgb8(*region);
+    for (int y = 0; y < pixels.height(); ++y)
+      for (int x = 0; x < pixels.width(); ++x)
+        canvas(static_cast<int>(f.x) + x, static_cast<int>(f.y) + y) = pixels(x, y);  // blend_op source
+    frames.push_back(canvas);
+    stream.clear();
+  };
+  for (std::size_t i = 2; i + 1 < chunks.size(); ++i) {
+    const chunk_ref& c = chunks[i];
+    if (c.type == "fcTL") {
+      if (frame > 0 || !stream.empty()) flush(frame);
+      frame = static_cast<std::size_t>(get32(file, c.at + 8)) == 0 ? 0 : frame + 1;
+    } else if (c.type == "fdAT") {
+      stream.insert(stream.end(), file.begin() + static_cast<std::ptrdiff_t>(c.at + 12),
+                    file.begin() + static_cast<std::ptrdiff_t>(c.at + 8 + c.length));
+    }
+  }
+  flush(frame);
+  return frames;
+}
+
+}  // namespace
+
+TEST_CASE("apng: frame 0 is the default image, CRCs and sequence numbers right, every frame replays") {
+  const int w = 23, h = 17;
+  std::vector<rgb_image> input = {apng_test_frame(w, h, 0), apng_test_frame(w, h, 0), apng_test_frame(w, h, 0),
+                                  apng_test_frame(w, h, 5)};
+  for (int y = 4; y < 9; ++y)
+    for (int x = 6; x < 11; ++x) input[1](x, y) = png::rgb8{255, 0, 0};  // a changed block
+  input[2] = input[1];                                                   // no change at all
+  const std::uint16_t delays[] = {100, 250, 0, 65535};
+  for (const bool crop : {true, false}) {
+    CAPTURE(crop);
+    png::apng_encoder encoder({.crop_to_changes = crop});
+    for (std::size_t i = 0; i < input.size(); ++i) REQUIRE(encoder.add(input[i].view(), delays[i]).has_value());
+    CHECK(encoder.frames() == input.size());
+    const auto file = encoder.finish();
+    REQUIRE(file.has_value());
+    std::vector<apng_frame_control> controls;
+    const std::vector<rgb_image> frames = replay_apng(*file, controls);
+    REQUIRE(controls.size() == input.size());
+    REQUIRE(frames.size() == input.size());
+    for (std::size_t i = 0; i < input.size(); ++i) {
+      CAPTURE(i);
+      CHECK(same_pixels(frames[i], input[i]));
+      CHECK(controls[i].delay_num == delays[i]);
+      CHECK(controls[i].delay_den == 1000);
+      CHECK(controls[i].dispose == 0);
+      CHECK(controls[i].blend == 0);
+    }
+    CHECK(controls[0].width == static_cast<std::uint32_t>(w));  // frame 0 is the whole image
+    CHECK(controls[0].height == static_cast<std::uint32_t>(h));
+    CHECK(controls[0].x + controls[0].y == 0);
+    if (crop) {  // frame 1 stores only the changed block, frame 2 one pixel
+      CHECK(controls[1].x == 6);
+      CHECK(controls[1].y == 4);
+      CHECK(controls[1].width == 5);
+      CHECK(controls[1].height == 5);
+      CHECK(controls[2].width * controls[2].height == 1);
+    } else {
+      for (const apng_frame_control& c : controls) CHECK(c.width * c.height == static_cast<std::uint32_t>(w * h));
+    }
+  }
+}
+
+TEST_CASE("apng: a frame of another size and an empty animation are errors") {
+  png::apng_encoder encoder;
+  CHECK_FALSE(encoder.finish().has_value());
+  const rgb_image a = apng_test_frame(8, 6, 1), b = apng_test_frame(6, 8, 1);
+  REQUIRE(encoder.add(a.view(), 40).has_value());
+  const png::png_status wrong = encoder.add(b.view(), 40);
+  REQUIRE_FALSE(wrong.has_value());
+  CHECK(wrong.error().message.find("first frame") != std::string::npos);
+  CHECK(encoder.frames() == 1);
+  const auto file = encoder.finish();
+  REQUIRE(file.has_value());
+  std::vector<apng_frame_control> controls;
+  CHECK(replay_apng(*file, controls).size() == 1);
+  const std::filesystem::path unwritable = std::filesystem::temp_directory_path() / "perch-no-such-dir" / "a.png";
+  const png::png_status written = png::write_apng(unwritable, encoder);
+  REQUIRE_FALSE(written.has_value());
+  CHECK(written.error().message.find("cannot open") != std::string::npos);
+}

@@ -227,6 +227,49 @@ struct write_options {
                                    image_view<const std::uint16_t> gray,
                                    const write_options& options = {});
 
+/// Options of an animated PNG.
+struct animation_options {
+  write_options png{};
+  std::uint32_t plays = 0;  ///< times the animation plays; 0: forever
+  /// Stores each frame after the first as only the rectangle where it differs from the frame
+  /// before (dispose none, blend source): the same pictures, a smaller file.
+  bool crop_to_changes = true;
+};
+
+/// Builds an animated PNG (APNG 1.0, https://wiki.mozilla.org/APNG_Specification) of 8-bit RGB
+/// frames, one `add` per frame; `finish` gives the file. Frame 0 is also the default image
+/// (its data is the IDAT), so a viewer or reader without APNG support (like `read_png`) sees
+/// the first frame. Each frame is compressed as it is added; the encoder keeps the compressed
+/// frames and one uncompressed frame (the last, to find what changed).
+class apng_encoder {
+ public:
+  explicit apng_encoder(const animation_options& options = {}) : options_(options) {}
+
+  /// Adds a frame shown for `delay_ms` milliseconds (0: as fast as the viewer goes). Errors: an
+  /// invalid or empty view, more than `max_png_pixels` pixels, a size other than the first
+  /// frame's, a zlib failure; the frame is not added then.
+  [[nodiscard]] png_status add(image_view<const rgb8> frame, std::uint16_t delay_ms);
+  /// Frames added.
+  [[nodiscard]] std::size_t frames() const noexcept { return frames_.size(); }
+  /// The file: signature, IHDR, acTL, per frame an fcTL and its data (IDAT for frame 0, fdAT
+  /// for the others; fcTL and fdAT numbered 0, 1, 2, ... in file order), IEND. Error: no frame.
+  [[nodiscard]] png_result<std::vector<std::uint8_t>> finish() const;
+
+ private:
+  struct stored_frame {
+    std::uint32_t x = 0, y = 0, width = 0, height = 0;  ///< the region stored
+    std::uint16_t delay_ms = 0;
+    std::vector<std::uint8_t> compressed;  ///< its zlib stream
+  };
+  animation_options options_;
+  std::vector<stored_frame> frames_;
+  std::vector<rgb8> previous_;  ///< the last frame added, rows dense
+  int width_ = 0, height_ = 0;
+};
+
+/// Writes `encoder.finish()` to `path` (its errors, plus a file that cannot be written).
+[[nodiscard]] png_status write_apng(const std::filesystem::path& path, const apng_encoder& encoder);
+
 /// CRC-32 of `bytes` as PNG chunks use it (PNG spec §5.5 and Annex D: polynomial
 /// 0xEDB88320 reflected, initial and final XOR 0xFFFFFFFF). Exposed for tests and tools.
 [[nodiscard]] std::uint32_t crc32(std::span<const std::uint8_t> bytes) noexcept;
