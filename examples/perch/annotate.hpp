@@ -4,9 +4,11 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 
 #include "perch/core/image.hpp"
 #include "perch/pli.hpp"
+#include "perch/track.hpp"
 #include "png/png.hpp"
 
 namespace perch::tool {
@@ -43,5 +45,31 @@ inline constexpr png::rgb8 envelope_rgb{255, 110, 255};
                                         const clearance_envelope& envelope,
                                         const image<std::uint8_t>& mask,
                                         const image<png::rgb8>* photo);
+
+/// One frame of `perch track`, for `annotate_tracks`.
+struct track_picture {
+  int frame = 0;                               ///< its number in the sequence
+  int width = 0, height = 0;                   ///< the input frame's size
+  const image<std::uint8_t>* mask = nullptr;   ///< its mask (null: the frame could not be read)
+  const perch_result* found = nullptr;         ///< its analysis (null: none)
+  const tracking_result* tracked = nullptr;    ///< the tracker's answer (required)
+  std::string_view error;                      ///< why there is no analysis, when there is none
+  int last_change_frame = -1;                  ///< the frame of the latest change of target (-1: none)
+  target_change last_change{};                 ///< that change
+};
+
+/// A picture of the tracker's view of one frame, `out_width` pixels wide (the input's width
+/// when ≤ 0 or larger; the height in proportion), in `annotate`'s style:
+///   - the mask in gray (each pixel the share of tree it covers when scaled down) and the
+///     pruned skeleton's branches coloured by diameter, as `annotate` draws them;
+///   - every track at its smoothed position: its window along the limb and "#id",
+///     confirmed green (a dot), tentative light blue (a ring), lost gray (a faint ring);
+///   - the target as `annotate` draws the chosen perch (claw × diameter rectangle, heading
+///     arrow), labelled "#id target: slope, d, heading" and, while doubtful, the rule it fails;
+///   - a status line (frame, status, target), under it the change of target in this frame and
+///     its reason, on red, or the latest change before it, faint;
+///   - a legend, in the corner that hides the least tree.
+[[nodiscard]] image<png::rgb8> annotate_tracks(const track_picture& picture, const platform_geometry& geometry,
+                                               int out_width);
 
 }  // namespace perch::tool

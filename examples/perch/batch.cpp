@@ -150,14 +150,6 @@ std::string write_summary_files(const std::filesystem::path& dir, const batch_su
   return write_text(dir / "summary.csv", summary_csv(summary));
 }
 
-/// Creates `dir` if missing. Returns an error message.
-std::string make_output_dir(const std::filesystem::path& dir) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir, ec)) return "cannot create " + dir.string();
-  return check_output_path(dir / "summary.json");
-}
-
 int run_merge(int argc, const char* const* argv) {
   support::arg_parser args("perch batch --merge",
                            "Joins the summary files of `perch batch --shard K/N` runs (every shard 1..N once)\n"
@@ -186,7 +178,7 @@ int run_merge(int argc, const char* const* argv) {
   batch_summary merged;
   const std::filesystem::path out_dir(std::string(*args.value("out")));
   std::string problem = merge_summaries(std::move(shards), merged);
-  if (problem.empty()) problem = make_output_dir(out_dir);
+  if (problem.empty()) problem = make_output_dir(out_dir, "summary.json");
   if (!problem.empty()) {
     report_error("batch", problem);
     return exit_usage;
@@ -259,7 +251,7 @@ int run_batch(int argc, const char* const* argv) {
   const std::filesystem::path out_dir(std::string(args.value("out").value_or("")));
   std::vector<std::filesystem::path> all_files;
   if (problem.empty()) problem = list_pngs(in_dir, all_files);
-  if (problem.empty()) problem = make_output_dir(out_dir);
+  if (problem.empty()) problem = make_output_dir(out_dir, "summary.json");
   if (!problem.empty()) {
     report_error("batch", problem);
     return exit_usage;

@@ -136,6 +136,13 @@ std::string check_output_path(const std::filesystem::path& path) {
   return {};
 }
 
+std::string make_output_dir(const std::filesystem::path& dir, std::string_view file) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir, ec)) return "cannot create " + dir.string();
+  return check_output_path(dir / file);
+}
+
 std::string check_output_options(const support::arg_parser& args, std::initializer_list<std::string_view> options) {
   for (const std::string_view option : options)
     if (const auto path = args.value(option))

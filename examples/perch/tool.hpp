@@ -146,6 +146,9 @@ void report_warnings(std::string_view command, const std::filesystem::path& path
 /// parent directory), or an empty string. Checked before any analysis, so a bad output path
 /// is exit 2 with nothing written.
 [[nodiscard]] std::string check_output_path(const std::filesystem::path& path);
+/// Creates `dir` if missing and checks that it can take `file` (`check_output_path`). Returns an
+/// error message ("cannot create DIR", ...), or an empty string.
+[[nodiscard]] std::string make_output_dir(const std::filesystem::path& dir, std::string_view file);
 /// `check_output_path` for each of `options` given on the command line: the first problem,
 /// "--option: ...", or an empty string.
 [[nodiscard]] std::string check_output_options(const support::arg_parser& args,

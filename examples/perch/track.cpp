@@ -10,10 +10,12 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <vector>
 
+#include "annotate.hpp"
 #include "perch/track.hpp"
 #include "support/json_writer.hpp"
 #include "support/sequence.hpp"
@@ -179,10 +181,12 @@ result<perch_result> find_with(const image<std::uint8_t>& mask, const run_config
   return find_perch(mask.view(), platform, scale, ws, options);
 }
 
-/// `find_perch` with the tool's options, then `tracker.update`.
+/// `find_perch` with the tool's options, then `tracker.update`; then `on_tracked(found or null,
+/// the platform's geometry, the tracking)` while the workspace still holds the analysis.
+template <class OnTracked>
 tracking_result analyse_and_track(const image<std::uint8_t>& mask, const run_config& config,
                                   perch_tracker& tracker, motion_estimator& estimator, workspace& ws,
-                                  frame_report& report) {
+                                  frame_report& report, OnTracked&& on_tracked) {
   return visit_platform(config.platform, [&](const auto& platform) {
     const std::int64_t t0 = steady_ns();
     auto found = config.scale.kind == scale_kind::fixed
@@ -204,8 +208,85 @@ tracking_result analyse_and_track(const image<std::uint8_t>& mask, const run_con
     const std::int64_t t2 = steady_ns();
     report.find_ms = config.timing ? static_cast<float>(static_cast<double>(t1 - t0) * 1e-6) : 0;
     report.track_ms = config.timing ? static_cast<float>(static_cast<double>(t2 - t1) * 1e-6) : 0;
+    on_tracked(found ? &*found : nullptr, platform.geometry, r);
     return r;
   });
+}
+
+/// `--annotate DIR` and `--apng FILE`: a picture of every frame (`annotate_tracks`), written to
+/// DIR/NAME.annotated.png and added to the animation.
+class track_pictures {
+ public:
+  std::optional<std::filesystem::path> dir;  ///< --annotate
+  std::optional<png::apng_encoder> apng;     ///< --apng
+  int apng_width = 0;                        ///< --apng-width (0: the frames' width)
+  std::uint16_t delay_ms = 100;              ///< --apng-delay-ms
+  std::uint16_t hold_ms = 1000;              ///< --apng-hold-ms: frames where the target changes
+
+  [[nodiscard]] bool wanted() const noexcept { return dir.has_value() || apng.has_value(); }
+
+  /// Draws frame `index` (`mask` and `found` null when missing) and writes or adds it. Returns
+  /// an error message. A frame before the first readable one has no size: no picture.
+  [[nodiscard]] std::string add(int index, const std::filesystem::path& input, const image<std::uint8_t>* mask,
+                                const perch_result* found, const platform_geometry& geometry,
+                                const tracking_result& tracked, std::string_view error) {
+    if (mask != nullptr) {
+      width_ = mask->width();
+      height_ = mask->height();
+    }
+    if (width_ == 0) return {};
+    const track_picture picture{.frame = index, .width = width_, .height = height_, .mask = mask, .found = found,
+                                .tracked = &tracked, .error = error, .last_change_frame = last_change_frame_,
+                                .last_change = last_change_};
+    if (tracked.changed) {
+      last_change_frame_ = index;
+      last_change_ = tracked.change;
+    }
+    std::optional<image<png::rgb8>> full;
+    if (dir) {
+      full = annotate_tracks(picture, geometry, 0);
+      const std::filesystem::path path = *dir / (input.stem().string() + ".annotated.png");
+      if (const png::png_status written = png::write_png(path, image_view<const png::rgb8>(full->view())); !written)
+        return written.error().message;
+    }
+    if (apng) {
+      const bool same = full && (apng_width <= 0 || apng_width >= width_);
+      const image<png::rgb8> scaled = same ? image<png::rgb8>{} : annotate_tracks(picture, geometry, apng_width);
+      const png::png_status added = apng->add(same ? image_view<const png::rgb8>(full->view())
+                                                   : image_view<const png::rgb8>(scaled.view()),
+                                              tracked.changed ? hold_ms : delay_ms);
+      if (!added) return added.error().message;
+    }
+    return {};
+  }
+
+ private:
+  int width_ = 0, height_ = 0;
+  int last_change_frame_ = -1;
+  target_change last_change_{};
+};
+
+/// Reads --annotate, --apng and their options; creates the --annotate directory. Returns an
+/// error message (empty on success).
+std::string read_picture_options(const st::arg_parser& args, track_pictures& pictures) {
+  const auto width = args.get_int("apng-width", 0, 0, 16384);
+  const auto delay = args.get_int("apng-delay-ms", 100, 0, 65535);
+  const auto hold = args.get_int("apng-hold-ms", 1000, 0, 65535);
+  for (const std::string* e : {&width.error, &delay.error, &hold.error})
+    if (!e->empty()) return *e;
+  if (!args.has("apng"))
+    for (const char* option : {"apng-width", "apng-delay-ms", "apng-hold-ms"})
+      if (args.has(option)) return "--" + std::string(option) + " needs --apng";
+  pictures.apng_width = width.value;
+  pictures.delay_ms = static_cast<std::uint16_t>(delay.value);
+  pictures.hold_ms = static_cast<std::uint16_t>(hold.value);
+  if (std::string e = check_output_options(args, {"apng"}); !e.empty()) return e;
+  if (args.has("apng")) pictures.apng.emplace();
+  if (const auto dir = args.value("annotate")) {
+    pictures.dir = std::filesystem::path(std::string(*dir));
+    if (std::string e = make_output_dir(*pictures.dir, "frame.annotated.png"); !e.empty()) return "--annotate: " + e;
+  }
+  return {};
 }
 
 }  // namespace
@@ -220,6 +301,14 @@ int run_track(int argc, const char* const* argv) {
                   "camera motion per frame: lines 'frame,h00,h01,h02,h10,h11,h12,h20,h21,h22', the\n"
                   "homography from the previous frame's pixels to this frame's (perch synth\n"
                   "--sequence writes one); frames not listed: estimated from the masks");
+  args.add_option("annotate", "OUT_DIR",
+                  "write a picture of every frame, OUT_DIR/NAME.annotated.png (created if missing): the\n"
+                  "mask, every track with its id (confirmed, tentative, lost), the target and its\n"
+                  "heading, the change of target and its reason");
+  args.add_option("apng", "OUT.png", "write those pictures as one animated PNG (APNG)");
+  args.add_option("apng-width", "W", "the animation's width in pixels (default: the frames')", "0");
+  args.add_option("apng-delay-ms", "MS", "how long each frame shows", "100");
+  args.add_option("apng-hold-ms", "MS", "how long a frame where the target changes shows", "1000");
   add_pipeline_options(args, depth_option::not_offered);
   add_mask_options(args);
   args.set_epilog(
@@ -231,7 +320,7 @@ int run_track(int argc, const char* const* argv) {
       "status: ok, no_perch, no_tree, wrong_size, bad_motion, missing_frame (an unreadable mask or\n"
       "a failed analysis, with \"error\"). Exit status: 0; 2 for bad arguments.\n"
       "Example: perch synth --sequence 3 --out /tmp/seq && perch track /tmp/seq --motion\n"
-      "         /tmp/seq/motion.csv --mm-per-px 4");
+      "         /tmp/seq/motion.csv --mm-per-px 4 --apng track.png --apng-width 480");
   int exit = exit_ok;
   if (!parse_or_exit(args, argc, argv, "track", exit)) return exit;
   run_config config;
@@ -242,6 +331,11 @@ int run_track(int argc, const char* const* argv) {
       report_error("track", e);
       return exit_usage;
     }
+  track_pictures pictures;
+  if (const std::string e = read_picture_options(args, pictures); !e.empty()) {
+    report_error("track", e);
+    return exit_usage;
+  }
   const std::filesystem::path dir{std::string(*args.positional("FRAMES_DIR"))};
   std::string error;
   const std::vector<std::filesystem::path> frames = frames_of(dir, error);
@@ -269,12 +363,26 @@ int run_track(int argc, const char* const* argv) {
     }
     loaded_mask mask;
     tracking_result r;
+    std::string picture_error;
     if (std::string e = load_mask(frames[i], reading, mask); !e.empty()) {
       report.error = std::move(e);
       estimator.reset();
       r = tracker.skip(report.motion);
+      if (pictures.wanted())
+        visit_platform(config.platform, [&](const auto& platform) {
+          picture_error = pictures.add(report.frame, frames[i], nullptr, nullptr, platform.geometry, r, report.error);
+        });
     } else {
-      r = analyse_and_track(mask.pixels, config, tracker, estimator, ws, report);
+      r = analyse_and_track(mask.pixels, config, tracker, estimator, ws, report,
+                            [&](const perch_result* found, const platform_geometry& geometry, const tracking_result& t) {
+                              if (pictures.wanted())
+                                picture_error = pictures.add(report.frame, frames[i], &mask.pixels, found, geometry, t,
+                                                             report.error);
+                            });
+    }
+    if (!picture_error.empty()) {
+      report_error("track", picture_error);
+      return exit_internal;
     }
     report.tracked = &r;
     if (const std::string e = write_text({}, frame_json(report) + "\n"); !e.empty()) {
@@ -282,6 +390,11 @@ int run_track(int argc, const char* const* argv) {
       return exit_internal;
     }
   }
+  if (pictures.apng)
+    if (const png::png_status written = png::write_apng(std::string(*args.value("apng")), *pictures.apng); !written) {
+      report_error("track", written.error().message);
+      return exit_internal;
+    }
   return exit_ok;
 }
 
