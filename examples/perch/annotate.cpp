@@ -497,9 +497,12 @@ image<png::rgb8> annotate_tracks(const track_picture& p, const platform_geometry
   std::string status = format("frame %.0f: ", p.frame) + std::string(to_string(t.status)) +
                        (t.target != nullptr ? ", target #" + std::to_string(t.target->id) : ", no target") + ", " +
                        std::to_string(t.tracks.size()) + (t.tracks.size() == 1 ? " track" : " tracks");
-  if (!p.error.empty()) status += "\n" + std::string(p.error);
   const support::text_box title = draw_title(canvas, status, t.target != nullptr ? perch_colour : miss_colour, text_scale);
-  const int change_y = title.y + title.height + 2;
+  int change_y = title.y + title.height + 2;
+  if (!p.error.empty()) {  // on its own line, so a long message does not shrink the status
+    labels.push_back(draw_title(canvas, std::string(p.error), miss_colour, text_scale, change_y));
+    change_y = labels.back().y + labels.back().height + 2;
+  }
   if (t.changed) {
     labels.push_back(draw_title(canvas, "target " + change_label(t.change), colours::white, text_scale, change_y,
                                 miss_colour, 0.85f));

@@ -591,6 +591,84 @@ TEST_CASE("synth --sequence, track and eval --sequences: frames, one JSON line p
   CHECK(e.out.find("target on a feasible stretch") != std::string::npos);
 }
 
+/// The chunks of a PNG file: (type, data), each CRC checked with zlib's crc32.
+std::vector<std::pair<std::string, std::string>> png_chunks(const std::string& file) {
+  std::vector<std::pair<std::string, std::string>> out;
+  const auto u32 = [&](std::size_t at) {
+    return (std::uint32_t{static_cast<std::uint8_t>(file[at])} << 24U) |
+           (std::uint32_t{static_cast<std::uint8_t>(file[at + 1])} << 16U) |
+           (std::uint32_t{static_cast<std::uint8_t>(file[at + 2])} << 8U) | std::uint32_t{static_cast<std::uint8_t>(file[at + 3])};
+  };
+  for (std::size_t at = 8; at + 12 <= file.size();) {
+    const std::uint32_t length = u32(at);
+    REQUIRE(at + 12 + length <= file.size());
+    const auto crc = static_cast<std::uint32_t>(
+        ::crc32(0L, reinterpret_cast<const Bytef*>(file.data() + at + 4), static_cast<uInt>(length + 4)));
+    CHECK(u32(at + 8 + length) == crc);
+    out.emplace_back(file.substr(at + 4, 4), file.substr(at + 8, length));
+    at += 12 + length;
+  }
+  return out;
+}
+
+TEST_CASE("track --annotate and --apng: a picture per frame, an animation of them, bad options exit 2") {
+  const fs::path dir = scratch("track_pictures");
+  const fs::path frames = dir / "frames";
+  const run_result s = run_perch({"synth", "--sequence", "2", "--frames", "8", "--out", frames.string()}, dir);
+  REQUIRE_MESSAGE(s.exit_code == 0, s.err);
+  std::ofstream(frames / "frame-0003x.png", std::ios::binary) << "\x89PNG\r\n\x1a\n truncated";  // a missing frame
+  const fs::path pictures = dir / "pictures", animation = dir / "track.png";
+  const run_result t = run_perch({"track", frames.string(), "--motion", (frames / "motion.csv").string(), "--no-timing",
+                                  "--annotate", pictures.string(), "--apng", animation.string(), "--apng-width", "240"},
+                                 dir);
+  REQUIRE_MESSAGE(t.exit_code == 0, t.err);
+  const perch::png::decoded_png first = decode(frames / "frame-0000.png");
+  for (const char* name : {"frame-0000", "frame-0003x", "frame-0007"}) {
+    CAPTURE(name);
+    const perch::png::decoded_png picture = decode(pictures / (std::string(name) + ".annotated.png"));
+    CHECK(picture.width == first.width);
+    CHECK(picture.height == first.height);
+    CHECK(picture.channels == 3);
+  }
+  // The animation: its default image is frame 0 (what any PNG reader sees), 240 px wide; acTL
+  // counts the 9 frames, each has an fcTL, and fcTL and fdAT are numbered 0, 1, 2, ...
+  const perch::png::decoded_png shown = decode(animation);
+  CHECK(shown.width == 240);
+  CHECK(shown.height == 240 * first.height / first.width);
+  const auto chunks = png_chunks(read_file(animation));
+  REQUIRE(chunks.size() > 3);
+  CHECK(chunks[0].first == "IHDR");
+  REQUIRE(chunks[1].first == "acTL");
+  CHECK(static_cast<std::uint8_t>(chunks[1].second[3]) == 9);
+  CHECK(chunks.back().first == "IEND");
+  std::size_t controls = 0, sequence = 0;
+  for (const auto& [type, bytes] : chunks) {
+    if (type != "fcTL" && type != "fdAT") continue;
+    controls += type == "fcTL";
+    const std::size_t number = (std::size_t{static_cast<std::uint8_t>(bytes[2])} << 8U) | static_cast<std::uint8_t>(bytes[3]);
+    CHECK(number == sequence++);
+  }
+  CHECK(controls == 9);
+
+  const fs::path file = dir / "a-file";
+  std::ofstream(file) << "x";
+  for (const std::vector<std::string>& bad : std::vector<std::vector<std::string>>{
+           {"--annotate", (file / "sub").string()},
+           {"--apng", (dir / "missing" / "a.png").string()},
+           {"--apng", dir.string()},
+           {"--apng-width", "240"},
+           {"--apng", animation.string(), "--apng-width", "-3"},
+           {"--apng", animation.string(), "--apng-delay-ms", "70000"}}) {
+    std::vector<std::string> args = {"track", frames.string()};
+    args.insert(args.end(), bad.begin(), bad.end());
+    CAPTURE(bad.front());
+    const run_result r = run_perch(args, dir);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find("perch track:") != std::string::npos);
+    CHECK(r.out.empty());
+  }
+}
+
 TEST_CASE("batch: a corrupt PNG is reported and skipped, the batch goes on") {
   const fs::path dir = scratch("batch_corrupt");
   const fs::path in = dir / "in";
