@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <system_error>
+#include <tuple>
 #include <vector>
 
 #include "annotate.hpp"
@@ -61,6 +62,76 @@ std::string read_motion_csv(const std::filesystem::path& path, std::map<int, cam
       m.h[k] = end != fields[k + 1].c_str() ? v : std::numeric_limits<float>::quiet_NaN();
     }
     out[std::atoi(fields[0].c_str())] = m;
+  }
+  return {};
+}
+
+/// One per-frame value of a CSV (`--roll-csv`, `--scale-csv`), by frame number or file name.
+struct per_frame_values {
+  std::map<int, float> by_index;
+  std::map<std::string, float> by_name;  ///< file name or stem
+
+  /// The value for frame `index` read from `file`, if listed (a name before a number).
+  [[nodiscard]] std::optional<float> find(int index, const std::filesystem::path& file) const {
+    for (const std::string& name : {file.filename().string(), file.stem().string()})
+      if (const auto it = by_name.find(name); it != by_name.end()) return it->second;
+    if (const auto it = by_index.find(index); it != by_index.end()) return it->second;
+    return std::nullopt;
+  }
+};
+
+/// Reads lines "frame,value" or "name,value" ('#' lines and blank lines skipped; more columns
+/// ignored). A first line whose second field does not start with a number is a header: the value is then the
+/// column headed `column` (so `perch synth --sequence`'s camera.csv serves). Every value must be
+/// a finite number in [lo, hi]. Returns an error message (empty on success).
+std::string read_per_frame_csv(const std::filesystem::path& path, std::string_view column, float lo, float hi,
+                               per_frame_values& out) {
+  std::ifstream in(path);
+  if (!in) return "cannot read " + path.string();
+  std::string line;
+  int line_number = 0;
+  std::size_t value_column = 1;
+  bool first = true;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> fields;
+    std::size_t start = 0;
+    for (std::size_t comma; (comma = line.find(',', start)) != std::string::npos; start = comma + 1)
+      fields.push_back(line.substr(start, comma - start));
+    fields.push_back(line.substr(start));
+    const std::string where = path.string() + ":" + std::to_string(line_number) + ": ";
+    const auto number = [](const std::string& text, float& v) {
+      char* end = nullptr;
+      v = std::strtof(text.c_str(), &end);
+      return end != text.c_str() && *end == '\0' && std::isfinite(v);
+    };
+    float v = 0;
+    const auto text = [](const std::string& field) {  // nothing strtof reads ("nan" it does)
+      char* end = nullptr;
+      (void)std::strtof(field.c_str(), &end);
+      return end == field.c_str();
+    };
+    if (first && fields.size() >= 2 && text(fields[1])) {  // a header
+      first = false;
+      const auto named = std::find(fields.begin(), fields.end(), column);
+      if (named == fields.end()) return where + "the header names no column '" + std::string(column) + "'";
+      value_column = static_cast<std::size_t>(named - fields.begin());
+      if (value_column == 0) return where + "the first column must be the frame or its file name";
+      continue;
+    }
+    first = false;
+    if (fields.size() <= value_column || fields[0].empty())
+      return where + "expected a frame number or file name, then " + std::string(column);
+    if (!number(fields[value_column], v) || v < lo || v > hi)
+      return where + std::string(column) + " '" + fields[value_column] + "' is not a number in [" +
+             std::to_string(static_cast<int>(lo)) + ", " + std::to_string(static_cast<int>(hi)) + "]";
+    const bool digits = std::all_of(fields[0].begin(), fields[0].end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (digits && fields[0].size() < 10)
+      out.by_index[std::atoi(fields[0].c_str())] = v;
+    else
+      out.by_name[fields[0]] = v;
   }
   return {};
 }
@@ -301,6 +372,14 @@ int run_track(int argc, const char* const* argv) {
                   "camera motion per frame: lines 'frame,h00,h01,h02,h10,h11,h12,h20,h21,h22', the\n"
                   "homography from the previous frame's pixels to this frame's (perch synth\n"
                   "--sequence writes one); frames not listed: estimated from the masks");
+  args.add_option("roll-csv", "FILE",
+                  "camera roll per frame, degrees: lines 'frame,roll_deg' or 'name,roll_deg' (frame\n"
+                  "number from 0 in name order, or file name); with a header line, the column\n"
+                  "roll_deg (perch synth --sequence's camera.csv); frames not listed: --roll-deg");
+  args.add_option("scale-csv", "FILE",
+                  "known scale per frame, mm per input pixel: lines 'frame,mm_per_px' or\n"
+                  "'name,mm_per_px', or the column mm_per_px (camera.csv); frames not listed: the\n"
+                  "--mm-per-px or --trunk-mm scale");
   args.add_option("annotate", "OUT_DIR",
                   "write a picture of every frame, OUT_DIR/NAME.annotated.png (created if missing): the\n"
                   "mask, every track with its id (confirmed, tentative, lost), the target and its\n"
@@ -349,6 +428,14 @@ int run_track(int argc, const char* const* argv) {
       report_error("track", e);
       return exit_usage;
     }
+  per_frame_values rolls, scales;
+  for (const auto& [option, column, lo, hi, values] :
+       {std::tuple{"roll-csv", "roll_deg", -360.0f, 360.0f, &rolls}, std::tuple{"scale-csv", "mm_per_px", 1e-6f, 1e6f, &scales}})
+    if (const auto path = args.value(option))
+      if (const std::string e = read_per_frame_csv(std::string(*path), column, lo, hi, *values); !e.empty()) {
+        report_error("track", "--" + std::string(option) + ": " + e);
+        return exit_usage;
+      }
   workspace ws;
   perch_tracker tracker;
   motion_estimator estimator;
@@ -373,7 +460,13 @@ int run_track(int argc, const char* const* argv) {
           picture_error = pictures.add(report.frame, frames[i], nullptr, nullptr, platform.geometry, r, report.error);
         });
     } else {
-      r = analyse_and_track(mask.pixels, config, tracker, estimator, ws, report,
+      run_config frame_config = config;
+      if (const auto roll = rolls.find(report.frame, frames[i])) frame_config.roll_deg = *roll;
+      if (const auto scale = scales.find(report.frame, frames[i])) {
+        frame_config.scale.kind = scale_kind::fixed;
+        frame_config.scale.mm_per_px = *scale;
+      }
+      r = analyse_and_track(mask.pixels, frame_config, tracker, estimator, ws, report,
                             [&](const perch_result* found, const platform_geometry& geometry, const tracking_result& t) {
                               if (pictures.wanted())
                                 picture_error = pictures.add(report.frame, frames[i], &mask.pixels, found, geometry, t,

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <vector>
 
 #include "json_reader.hpp"
@@ -667,6 +668,61 @@ TEST_CASE("track --annotate and --apng: a picture per frame, an animation of the
     CHECK(r.err.find("perch track:") != std::string::npos);
     CHECK(r.out.empty());
   }
+}
+
+TEST_CASE("track --roll-csv and --scale-csv: each frame's roll and scale reach find_perch; bad CSVs exit 2") {
+  const fs::path dir = scratch("track_roll");
+  const fs::path frames = dir / "frames";
+  const run_result s = run_perch({"synth", "--sequence", "6", "--frames", "6", "--out", frames.string()}, dir);
+  REQUIRE_MESSAGE(s.exit_code == 0, s.err);
+  const auto write = [&](const char* name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    return (dir / name).string();
+  };
+  std::string by_frame = "# a comment\nframe,roll_deg\n", by_name, scale_by_frame;
+  for (int i = 0; i < 6; ++i) {
+    by_frame += std::to_string(i) + ",10\n";
+    by_name += "frame-000" + std::to_string(i) + (i % 2 == 0 ? ".png" : "") + ",10\r\n";  // name or stem
+    scale_by_frame += std::to_string(i) + ",5,extra\n";
+  }
+  const std::vector<std::string> track = {"track", frames.string(), "--motion", (frames / "motion.csv").string(),
+                                          "--no-timing"};
+  const auto run = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = track;
+    args.insert(args.end(), extra.begin(), extra.end());
+    run_result r = run_perch(args, dir);
+    REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+    return r.out;
+  };
+  // The sequence's own camera.csv (header frame,roll_deg,mm_per_px,scale) gives the true scale.
+  const std::string camera = (frames / "camera.csv").string();
+  const std::string rolled = run({"--roll-deg", "10", "--scale-csv", camera});
+  CHECK(run({"--roll-csv", write("by_frame.csv", by_frame), "--scale-csv", camera}) == rolled);
+  CHECK(run({"--roll-csv", write("by_name.csv", by_name), "--scale-csv", camera}) == rolled);
+  CHECK(run({"--scale-csv", camera}) != rolled);  // roll 0: other slopes, other sites
+  CHECK(run({"--roll-csv", camera, "--scale-csv", camera}) != rolled);
+  CHECK(run({"--scale-csv", write("scale.csv", scale_by_frame)}) == run({"--mm-per-px", "5"}));
+
+  for (const auto& [option, text, needle] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {"--roll-csv", "0,10\n1,abc\n", "bad.csv:2: roll_deg 'abc' is not a number"},
+           {"--roll-csv", "frame,roll\n0,10\n", "bad.csv:1: the header names no column 'roll_deg'"},
+           {"--roll-csv", "0,10\n7\n", "bad.csv:2: expected a frame number or file name"},
+           {"--roll-csv", "0,1e9\n", "is not a number in"},
+           {"--scale-csv", "0,-4\n", "bad.csv:1: mm_per_px '-4'"},
+           {"--scale-csv", "0,nan\n", "bad.csv:1: mm_per_px 'nan'"}}) {
+    CAPTURE(text);
+    std::vector<std::string> args = track;
+    args.insert(args.end(), {option, write("bad.csv", text)});
+    const run_result r = run_perch(args, dir);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find(needle) != std::string::npos);
+    CHECK(r.out.empty());
+  }
+  std::vector<std::string> missing = track;
+  missing.insert(missing.end(), {"--roll-csv", (dir / "missing.csv").string()});
+  const run_result r = run_perch(missing, dir);
+  CHECK(r.exit_code == 2);
+  CHECK(r.err.find("cannot read") != std::string::npos);
 }
 
 TEST_CASE("batch: a corrupt PNG is reported and skipped, the batch goes on") {
