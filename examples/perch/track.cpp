@@ -373,19 +373,19 @@ int run_track(int argc, const char* const* argv) {
                   "homography from the previous frame's pixels to this frame's (perch synth\n"
                   "--sequence writes one); frames not listed: estimated from the masks");
   args.add_option("roll-csv", "FILE",
-                  "camera roll per frame, degrees: lines 'frame,roll_deg' or 'name,roll_deg' (frame\n"
-                  "number from 0 in name order, or file name); with a header line, the column\n"
-                  "roll_deg (perch synth --sequence's camera.csv); frames not listed: --roll-deg");
+                  "camera roll per frame, degrees: lines 'frame,roll_deg' or 'name,roll_deg'\n"
+                  "(frame number from 0 in name order, or file name); with a header line, the\n"
+                  "column roll_deg (perch synth --sequence's camera.csv); others: --roll-deg");
   args.add_option("scale-csv", "FILE",
                   "known scale per frame, mm per input pixel: lines 'frame,mm_per_px' or\n"
-                  "'name,mm_per_px', or the column mm_per_px (camera.csv); frames not listed: the\n"
-                  "--mm-per-px or --trunk-mm scale");
+                  "'name,mm_per_px', or the column mm_per_px (camera.csv); frames not\n"
+                  "listed: --mm-per-px or --trunk-mm");
   args.add_option("annotate", "OUT_DIR",
-                  "write a picture of every frame, OUT_DIR/NAME.annotated.png (created if missing): the\n"
-                  "mask, every track with its id (confirmed, tentative, lost), the target and its\n"
-                  "heading, the change of target and its reason");
+                  "a picture of every frame, OUT_DIR/NAME.annotated.png (created if\n"
+                  "missing): the mask, every track with its id (confirmed, tentative, lost),\n"
+                  "the target and its heading, the change of target and its reason");
   args.add_option("apng", "OUT.png", "write those pictures as one animated PNG (APNG)");
-  args.add_option("apng-width", "W", "the animation's width in pixels (default: the frames')", "0");
+  args.add_option("apng-width", "W", "the animation's width in pixels; 0: the frames' width", "0");
   args.add_option("apng-delay-ms", "MS", "how long each frame shows", "100");
   args.add_option("apng-hold-ms", "MS", "how long a frame where the target changes shows", "1000");
   add_pipeline_options(args, depth_option::not_offered);
@@ -397,9 +397,11 @@ int run_track(int argc, const char* const* argv) {
       "\"constraint\", \"miss\", \"unit\", \"frames\"]} or null, \"tracks\": [{\"id\", \"state\", \"x\", \"y\", \"age\", \"hits\",\n"
       "\"misses\", \"penalty\"}], \"motion\": {\"source\": given|estimated|identity, \"h\"}, \"timing_ms\": {\"find_perch\", \"track\"}}.\n"
       "status: ok, no_perch, no_tree, wrong_size, bad_motion, missing_frame (an unreadable mask or\n"
-      "a failed analysis, with \"error\"). Exit status: 0; 2 for bad arguments.\n"
-      "Example: perch synth --sequence 3 --out /tmp/seq && perch track /tmp/seq --motion\n"
-      "         /tmp/seq/motion.csv --mm-per-px 4 --apng track.png --apng-width 480");
+      "a failed analysis, with \"error\"). Exit status: 0; 2 for bad arguments (a bad CSV,\n"
+      "an --annotate or --apng path that cannot be written); 1 when writing a picture fails.\n"
+      "Example: perch synth --sequence 7 --out seq7 && perch track seq7 --motion seq7/motion.csv\n"
+      "         --roll-csv seq7/camera.csv --scale-csv seq7/camera.csv --apng track.png\n"
+      "         --apng-width 480 > seq7/track.jsonl");
   int exit = exit_ok;
   if (!parse_or_exit(args, argc, argv, "track", exit)) return exit;
   run_config config;
