@@ -297,15 +297,24 @@ class track_pictures {
   [[nodiscard]] bool wanted() const noexcept { return dir.has_value() || apng.has_value(); }
 
   /// Draws frame `index` (`mask` and `found` null when missing) and writes or adds it. Returns
-  /// an error message. A frame before the first readable one has no size: no picture.
+  /// an error message. Every picture has the first readable frame's size (a frame of another
+  /// size is drawn without its mask); a frame before that one has no size: no picture.
   [[nodiscard]] std::string add(int index, const std::filesystem::path& input, const image<std::uint8_t>* mask,
                                 const perch_result* found, const platform_geometry& geometry,
                                 const tracking_result& tracked, std::string_view error) {
-    if (mask != nullptr) {
+    if (mask != nullptr && width_ == 0) {
       width_ = mask->width();
       height_ = mask->height();
     }
     if (width_ == 0) return {};
+    std::string size_error;
+    if (mask != nullptr && (mask->width() != width_ || mask->height() != height_)) {
+      size_error = "a frame of " + std::to_string(mask->width()) + " x " + std::to_string(mask->height()) +
+                   ", not the first frame's " + std::to_string(width_) + " x " + std::to_string(height_);
+      error = size_error;
+      mask = nullptr;
+      found = nullptr;
+    }
     const track_picture picture{.frame = index, .width = width_, .height = height_, .mask = mask, .found = found,
                                 .tracked = &tracked, .error = error, .last_change_frame = last_change_frame_,
                                 .last_change = last_change_};

@@ -618,13 +618,14 @@ TEST_CASE("track --annotate and --apng: a picture per frame, an animation of the
   const run_result s = run_perch({"synth", "--sequence", "2", "--frames", "8", "--out", frames.string()}, dir);
   REQUIRE_MESSAGE(s.exit_code == 0, s.err);
   std::ofstream(frames / "frame-0003x.png", std::ios::binary) << "\x89PNG\r\n\x1a\n truncated";  // a missing frame
+  fs::copy_file(data / "synth-6.png", frames / "frame-0005x.png");  // 640 x 480: another size
   const fs::path pictures = dir / "pictures", animation = dir / "track.png";
   const run_result t = run_perch({"track", frames.string(), "--motion", (frames / "motion.csv").string(), "--no-timing",
                                   "--annotate", pictures.string(), "--apng", animation.string(), "--apng-width", "240"},
                                  dir);
   REQUIRE_MESSAGE(t.exit_code == 0, t.err);
   const perch::png::decoded_png first = decode(frames / "frame-0000.png");
-  for (const char* name : {"frame-0000", "frame-0003x", "frame-0007"}) {
+  for (const char* name : {"frame-0000", "frame-0003x", "frame-0005x", "frame-0007"}) {
     CAPTURE(name);
     const perch::png::decoded_png picture = decode(pictures / (std::string(name) + ".annotated.png"));
     CHECK(picture.width == first.width);
@@ -632,7 +633,7 @@ TEST_CASE("track --annotate and --apng: a picture per frame, an animation of the
     CHECK(picture.channels == 3);
   }
   // The animation: its default image is frame 0 (what any PNG reader sees), 240 px wide; acTL
-  // counts the 9 frames, each has an fcTL, and fcTL and fdAT are numbered 0, 1, 2, ...
+  // counts the 10 frames, each has an fcTL, and fcTL and fdAT are numbered 0, 1, 2, ...
   const perch::png::decoded_png shown = decode(animation);
   CHECK(shown.width == 240);
   CHECK(shown.height == 240 * first.height / first.width);
@@ -640,7 +641,7 @@ TEST_CASE("track --annotate and --apng: a picture per frame, an animation of the
   REQUIRE(chunks.size() > 3);
   CHECK(chunks[0].first == "IHDR");
   REQUIRE(chunks[1].first == "acTL");
-  CHECK(static_cast<std::uint8_t>(chunks[1].second[3]) == 9);
+  CHECK(static_cast<std::uint8_t>(chunks[1].second[3]) == 10);
   CHECK(chunks.back().first == "IEND");
   std::size_t controls = 0, sequence = 0;
   for (const auto& [type, bytes] : chunks) {
@@ -649,7 +650,7 @@ TEST_CASE("track --annotate and --apng: a picture per frame, an animation of the
     const std::size_t number = (std::size_t{static_cast<std::uint8_t>(bytes[2])} << 8U) | static_cast<std::uint8_t>(bytes[3]);
     CHECK(number == sequence++);
   }
-  CHECK(controls == 9);
+  CHECK(controls == 10);
 
   const fs::path file = dir / "a-file";
   std::ofstream(file) << "x";
