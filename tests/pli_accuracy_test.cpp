@@ -20,6 +20,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "support/population.hpp"
@@ -94,7 +95,7 @@ struct score {
 /// first `family_size` members drawn `magnify` times bigger) and scores it.
 template <class ScaleOf>
 score evaluate(st::tree_family family, ScaleOf&& scale_of,
-               const perch::perch_options& options = {}, int magnify = 1) {
+               const perch::perch_options& options = {}, int magnify = 1, int outline_bias = 0) {
   perch::workspace ws;
   score s;
   for (int i = 0; i < family_size(family); ++i) {
@@ -103,8 +104,13 @@ score evaluate(st::tree_family family, ScaleOf&& scale_of,
     const st::population_member& m =
         magnify == 1 ? population(family)[static_cast<std::size_t>(i)] : magnified;
     const st::perch_truth truth(m.tree);
-    auto found = perch::find_perch(m.tree.mask.view(), perch::tendon_claw{}, scale_of(m.tree), ws,
-                                   options);
+    perch::image<std::uint8_t> shifted;  // the mask as a biased segmenter draws it
+    if (outline_bias != 0) {
+      shifted = m.tree.mask;
+      st::shift_outline(shifted, outline_bias);
+    }
+    const auto mask = outline_bias != 0 ? std::as_const(shifted).view() : m.tree.mask.view();
+    auto found = perch::find_perch(mask, perch::tendon_claw{}, scale_of(m.tree), ws, options);
     ++s.trees;
     const std::string name = std::string(st::to_string(family)) + " " + std::to_string(i) + " (" +
                              m.kind + ", " + std::to_string(m.tree.mask.width()) + "x" +
@@ -148,10 +154,10 @@ score evaluate(st::tree_family family, ScaleOf&& scale_of,
 }
 
 score evaluate_known_scale(st::tree_family family, const perch::perch_options& options = {},
-                           int magnify = 1) {
+                           int magnify = 1, int outline_bias = 0) {
   return evaluate(
       family, [](const st::synthetic_tree& t) { return perch::fixed_scale{t.mm_per_px}; },
-      options, magnify);
+      options, magnify, outline_bias);
 }
 
 
@@ -191,16 +197,31 @@ TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known 
     // rates only on the whole.
     if (family == st::tree_family::arcs) {
       CHECK(s.false_perches == 0);               // never a perch where none is safe
-      if (!sanitized) CHECK(s.rate() >= 0.68);  // measured 70.1 % (117 of 167)
-      CHECK(s.incorrect <= 3);                   // measured 2
+      if (!sanitized) CHECK(s.rate() >= 0.57);  // measured 59.3 % (99 of 167)
+      CHECK(s.incorrect <= 3);                   // measured 1
     } else {
       // Space colonisation grows limbs in 3-D; seen from the side, some run inside another
       // for a stretch, which the mask cannot show (the truth's gap there is negative): most of
       // the wrong sites are such fused pairs (see docs/accuracy-log.md).
       CHECK(s.false_perches <= 3);  // measured 2
-      if (!sanitized) CHECK(s.rate() >= 0.33);  // measured 35.1 % (27 of 77)
-      CHECK(s.incorrect <= 7);      // measured 6
+      if (!sanitized) CHECK(s.rate() >= 0.14);  // measured 15.6 % (12 of 77)
+      CHECK(s.incorrect <= 8);      // measured 7
     }
+  }
+}
+
+TEST_CASE("find_perch: a segmenter's outline a pixel off" * doctest::skip(sanitized)) {
+  // The same arcs trees drawn a pixel wider (an over-segmenting network) and a pixel narrower,
+  // judged by the drawn truth: the margins of perch::outline_uncertainty_px keep limbs under
+  // the grasp range and limbs read as twigs out (with half a pixel per side: 27 and 6 wrong).
+  for (const int bias : {1, -1}) {
+    CAPTURE(bias);
+    const score s = evaluate_known_scale(st::tree_family::arcs, {}, 1, bias);
+    MESSAGE("outline bias " << bias << ": " << s.summary());
+    MESSAGE("failures:\n" << s.failures.str());
+    CHECK(s.errors == 0);
+    CHECK(s.false_perches == 0);
+    CHECK(s.incorrect <= (bias > 0 ? 8 : 6));  // measured 6 and 4
   }
 }
 

@@ -72,10 +72,10 @@ TEST_CASE("find_perch: a T tree perches on the limb, level, at its diameter") {
 }
 
 TEST_CASE("find_perch: windows run along a limb through the junction where a twig leaves") {
-  // A level limb 17 px (34 mm) thick, 150 px long, with a 2 px twig rising from its middle: each
+  // A level limb 19 px (38 mm) thick, 150 px long, with a 2 px twig rising from its middle: each
   // half is shorter than the 90 px window, the limb is not.
   image<std::uint8_t> mask(200, 60);
-  capsule(mask, {25, 40}, {175, 40}, 8.5f);
+  capsule(mask, {25, 40}, {175, 40}, 9.5f);
   capsule(mask, {100, 40}, {100, 2}, 1.0f);
   perch::workspace ws;
   auto found = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
@@ -102,9 +102,9 @@ TEST_CASE("find_perch: pinholes in a limb are filled, so the limb stays whole") 
   // segmenter's speckle): the skeleton would circle each and cut the limb into pieces shorter
   // than a window.
   image<std::uint8_t> mask(200, 60);
-  capsule(mask, {25, 40}, {175, 40}, 8.5f);
+  capsule(mask, {25, 40}, {175, 40}, 9.5f);
   mask(60, 36) = 0;
-  for (int y = 43; y < 45; ++y)
+  for (int y = 44; y < 46; ++y)
     for (int x = 99; x < 101; ++x) mask(x, y) = 0;
   perch::workspace ws;
   auto found = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
@@ -115,7 +115,7 @@ TEST_CASE("find_perch: pinholes in a limb are filled, so the limb stays whole") 
   CHECK(mask(60, 36) == 0);  // the caller's mask is not touched
   REQUIRE(found->outcome == perch_outcome::found);
   CHECK(std::abs(found->sites.front().window.centre.y - 40) <= 1);
-  // Filling only the single pixel leaves the 2 × 2 hole 3 px below the axis: the skeleton
+  // Filling only the single pixel leaves the 2 × 2 hole 4 px below the axis: the skeleton
   // circles it, and the limb runs on along the thick strand above it (the strand below is
   // thinner than a twig), so the perch stays.
   perch::perch_options options;
@@ -143,7 +143,7 @@ TEST_CASE("find_perch: a site never lies on a filled pinhole") {
   // The perch pixel of a level limb, then the same limb with a pinhole punched there: the
   // window's middle moves to the nearest tree pixel of its centreline (found by fuzzing).
   image<std::uint8_t> mask(200, 60);
-  capsule(mask, {25, 40}, {175, 40}, 8.5f);
+  capsule(mask, {25, 40}, {175, 40}, 9.5f);
   perch::workspace ws;
   auto solid = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
   REQUIRE(solid);

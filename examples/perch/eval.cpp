@@ -487,6 +487,8 @@ int run_eval(int argc, const char* const* argv) {
                   "arcs:N,colonisation:N; N may be A-B (members A to B), e.g. arcs:12-12");
   args.add_option("magnify", "M", "population trees M times bigger (640-1280 px wide at 1)", "1");
   args.add_flag("known-scale", "use the truth's mm/px (fixed scale); the default with --population");
+  args.add_option("outline-bias", "PX", "move every outline out by PX pixels first (-3 to 3): a segmenter that\n"
+                                        "over- (PX > 0) or under-segments (PX < 0); the truth stays", "0");
   args.add_option("rows", "WHICH", "per-tree rows: all, failures or none (default: all for DIR, failures\n"
                                    "for --population)");
   args.add_option("jobs", "N", "worker threads; 0 = all cores", "0", 'j');
@@ -526,6 +528,11 @@ int run_eval(int argc, const char* const* argv) {
   const auto magnify = args.get_int("magnify", 1, 1, 8);
   if (!magnify) {
     report_error("eval", magnify.error);
+    return exit_usage;
+  }
+  const auto outline_bias = args.get_int("outline-bias", 0, -3, 3);
+  if (!outline_bias) {
+    report_error("eval", outline_bias.error);
     return exit_usage;
   }
   const bool population = args.has("population");
@@ -617,6 +624,7 @@ int run_eval(int argc, const char* const* argv) {
           rec.kind = m.kind;
           rec.knobs = split_knobs(m.kind);
           rec.built_without_perch = m.built_without_perch;
+          st::shift_outline(m.tree.mask, outline_bias.value);
           evaluate(rec, m.tree, spec, config_for(m.tree.mm_per_px), *spaces[worker]);
           progress.tick();
           return rec;
@@ -648,6 +656,7 @@ int run_eval(int argc, const char* const* argv) {
         }
         tree.limbs = std::move(truth.limbs);
         tree.mm_per_px = truth.mm_per_px;
+        st::shift_outline(tree.mask, outline_bias.value);
         evaluate(rec, tree, spec, config_for(truth.mm_per_px), *spaces[worker]);
         progress.tick();
         return rec;

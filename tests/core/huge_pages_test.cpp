@@ -30,7 +30,7 @@ TEST_CASE("huge_page_resource: aligned, writable blocks of any size, given back"
 }
 
 TEST_CASE("huge_page_resource: a workspace on it gives find_perch's results, no heap, no regrowth") {
-  const auto tree = perch::support::benchmark_tree(640, 480, perch::support::tree_noise::noisy);
+  const auto tree = perch::support::benchmark_tree(640, 480, perch::support::tree_noise::clean);
   const perch::fixed_scale scale{tree.mm_per_px};
   perch::workspace plain;
   auto expected = perch::find_perch(tree.mask.view(), perch::tendon_claw{}, scale, plain);

@@ -385,7 +385,7 @@ struct run_record {
 }  // namespace
 
 TEST_CASE("find_perch + tracker: no allocation per frame after warm-up, and deterministic") {
-  const auto tree = perch::support::benchmark_tree(640, 480, perch::support::tree_noise::noisy);
+  const auto tree = perch::support::benchmark_tree(640, 480, perch::support::tree_noise::clean);
   std::vector<perch::image<std::uint8_t>> frames;
   for (int f = 0; f < 8; ++f) frames.push_back(shifted(tree.mask, 2 * f, -f));
   const perch::fixed_scale scale{tree.mm_per_px};

@@ -1093,6 +1093,31 @@ inline void add_holes(const tree_options& o, const std::vector<limb_truth>& limb
 
 }  // namespace detail
 
+/// A segmenter's bias: every outline of `mask` moved out by `px` pixels (`px` > 0: the tree
+/// grows by a disc of that radius, as an over-segmenting network draws it; `px` < 0: it shrinks,
+/// as an under-segmenting one does). The truth stays the drawn geometry, so `perch eval
+/// --outline-bias` asks how a rule's margins stand a mask whose widths are off by 2·`px`.
+/// Complexity: O(pixels · px²).
+inline void shift_outline(image<std::uint8_t>& mask, int px) {
+  if (px == 0 || mask.width() <= 0 || mask.height() <= 0) return;
+  const int w = mask.width(), h = mask.height(), r = std::abs(px);
+  const std::uint8_t grown = px > 0 ? 255 : 0;  // the value a pixel takes near the other kind
+  image<std::uint8_t> out = mask;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if ((mask(x, y) != 0) == (px > 0)) continue;  // already what the shift makes
+      bool near = false;
+      for (int dy = -r; dy <= r && !near; ++dy)
+        for (int dx = -r; dx <= r && !near; ++dx) {
+          const int u = x + dx, v = y + dy;
+          if (dx * dx + dy * dy > r * r || u < 0 || v < 0 || u >= w || v >= h) continue;
+          near = (mask(u, v) != 0) == (px > 0);
+        }
+      if (near) out(x, y) = grown;
+    }
+  mask = std::move(out);
+}
+
 /// Makes a synthetic tree (see the file comment). Limb 0 is the trunk; its bottom row is full
 /// width (the trunk's base cap lies below the image). Limbs are grown breadth-first, so a
 /// parent's index is below its children's. Order: the first tree, the second tree (`tree == 1`,

@@ -20,6 +20,7 @@
 #include "perch/core/disc_index.hpp"
 #include "perch/core/geometry.hpp"
 #include "perch/core/image_view.hpp"
+#include "perch/core/mask.hpp"
 #include "perch/core/row_runs.hpp"
 #include "perch/core/result.hpp"
 #include "perch/core/workspace.hpp"
@@ -36,8 +37,8 @@ struct obstacle_options {
   /// rotors brush them aside. Only discs at least this thick are obstacles...
   float twig_max_mm = 20.0f;
   /// ... give or take this many pixels: a limb is a twig only when it is known to be one, its
-  /// width read off the mask (good to about a pixel) below `twig_max_mm` by this much.
-  float uncertainty_px = 1.0f;
+  /// width read off the mask below `twig_max_mm` by the width's uncertainty.
+  float uncertainty_px = width_uncertainty_px;
 
   /// The smallest distance-map radius (px) of an obstacle at `mm_per_px`: a disc of radius r
   /// stands for a width of about 2·r − 1 px. Thinner edges are twigs (also for

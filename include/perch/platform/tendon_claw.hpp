@@ -16,15 +16,14 @@ namespace perch {
 ///  - its piece of mask is grounded (`supported`) and its outline is 3 px inside the frame
 ///    (`image_border`);
 ///  - the claw-region diameter is within 30–110 mm (`diameter_range`), and still is give or
-///    take 1.5 px (`resolved_diameter`: a pixel of outline uncertainty, and half a pixel for
-///    the cross-section's own measuring error, rms 0.4–0.6 px; eq. 3 seeks the smallest
-///    graspable diameter, so without the half pixel it picks windows whose width is known only
-///    to within the measuring error of the limit);
+///    take what a mask's outline and a cross-section's measuring leave unknown
+///    (`resolved_diameter`);
 ///  - the limb's tangent is at most 35° from horizontal (`max_slope`), it turns by at most 20°
 ///    over a drone width around any point (`max_bend`), gently curved and monotonic;
 ///  - it holds the drone (paper eq. 4, `bending_stress`);
 ///  - every other limb thicker than a 20 mm twig is at least 70 mm (the claw's reach as it
-///    closes) from its surface (`clearance`).
+///    closes) from its surface (`clearance`); widths and gaps with the margins of a mask's
+///    outline (`outline_uncertainty_px`).
 /// Ranked by paper eq. 3 with λ_slope 0.8, λ_diameter 0.2.
 /// The drone's numbers are written once, in `geometry` and the constants below; the constraints
 /// and the scorer are built from them.
@@ -39,7 +38,7 @@ struct tendon_claw {
       constraints{supported{},
                   image_border{3.0f},
                   diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm, 0.0f},
-                  resolved_diameter{geometry.grasp_min_mm, geometry.grasp_max_mm, 1.5f},
+                  resolved_diameter{geometry.grasp_min_mm, geometry.grasp_max_mm},
                   max_slope{max_slope_deg},
                   max_bend{20.0f},
                   max_curvature{},

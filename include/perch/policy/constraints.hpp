@@ -13,6 +13,7 @@
 
 #include "perch/analysis/clearance.hpp"
 #include "perch/analysis/measures.hpp"
+#include "perch/core/mask.hpp"
 #include "perch/core/result.hpp"
 
 namespace perch {
@@ -66,15 +67,19 @@ struct diameter_range {
 
 /// The claw's diameter is known well enough to say it fits: the claw-region diameter, give or
 /// take `uncertainty_px` image pixels at the window's scale, still within [min_mm, max_mm].
-/// A mask's outline is good to about a pixel, so a 30–40 mm limb drawn 2–3 px wide may be
-/// 20 mm or 50 mm: not known to be graspable, and reported as `resolution`, not as a perch.
+/// A mask's widths are good to `width_uncertainty_px`, and a cross-section adds its own
+/// measuring error (rms 0.4–0.6 px; paper eq. 3 seeks the smallest graspable diameter, so
+/// without it the ranking picks windows known only to within that error of the limit). So a
+/// 30–40 mm limb drawn 2–3 px wide may be 20 mm or 50 mm: not known to be graspable, and
+/// reported as `resolution`, not as a perch.
 /// A diameter outside the range itself passes here: that is `diameter_range`'s to report.
 struct resolved_diameter {
   static constexpr std::string_view name = "resolution";
   static constexpr std::string_view unit = "px";
+  static constexpr float measuring_error_px = 0.5f;  ///< a cross-section's own, beyond the outline's
   float min_mm = 30.0f;
   float max_mm = 110.0f;
-  float uncertainty_px = 1.0f;
+  float uncertainty_px = width_uncertainty_px + measuring_error_px;
   [[nodiscard]] float operator()(const window_measures& m) const noexcept {
     if (!(m.mm_per_px > 0)) return 1.0f;
     if (m.claw_diameter_mm < min_mm || m.claw_diameter_mm > max_mm) return 0.0f;
@@ -208,14 +213,14 @@ struct monotonic {
 /// thicker than a twig, beyond its own surface (`window_context::limb_gap_mm`): the claw reaches
 /// that far around the limb as it closes, so a side limb, the parent at a fork, a limb crossing
 /// in front or behind, or a second tree there would be in its way. Twigs (`obstacle_options`)
-/// are compliant and do not count. Like a diameter, a gap read off a mask is good to about a
-/// pixel (each outline to half of one), so the gap must reach the margin plus
-/// `uncertainty_px` image pixels at the window's scale to be known clear.
+/// are compliant and do not count. Like a width, a gap between two outlines read off a mask is
+/// good to `width_uncertainty_px`, so the gap must reach the margin plus `uncertainty_px`
+/// image pixels at the window's scale to be known clear.
 struct clearance {
   static constexpr std::string_view name = "clearance";
   static constexpr std::string_view unit = "mm";
   float margin_mm = 70.0f;
-  float uncertainty_px = 1.0f;
+  float uncertainty_px = width_uncertainty_px;
   [[nodiscard]] float operator()(const window_measures& m,
                                  const window_context& context) const noexcept {
     const float needed = margin_mm + uncertainty_px * m.mm_per_px;
