@@ -527,10 +527,8 @@ int run_synth_sequence(int argc, const char* const* argv) {
     return exit_usage;
   }
   const std::filesystem::path dir(std::string(*args.value("out")));
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec || !std::filesystem::is_directory(dir, ec)) {
-    report_error("synth", "cannot create " + dir.string());
+  if (const std::string e = make_output_dir(dir, "frame-0000.png"); !e.empty()) {
+    report_error("synth", e);
     return exit_usage;
   }
   st::sequence_options options;
