@@ -64,3 +64,31 @@ TEST_CASE("the truth under roll: a rolled frame's truth matches the unrolled fra
   CHECK(std::abs(b.roll_deg) > 1.0f);
   CHECK(lc != lb);
 }
+
+TEST_CASE("a sequence's depth image: the tree at the distance its scale implies, no return elsewhere") {
+  st::sequence_options o;
+  o.frames = 5;
+  const st::approach_sequence a = st::evaluation_sequence(2, o);
+  const perch::pinhole camera = a.camera();
+  CHECK(camera.validate().has_value());
+  CHECK(camera.cx == doctest::Approx(0.5 * (a.width() - 1)));
+  float first_z = 0, last_z = 0;
+  for (const int f : {0, a.frames() - 1}) {
+    const st::sequence_frame frame = a.frame(f);
+    const perch::image<std::uint16_t> depth = a.depth_mm(frame);
+    REQUIRE(depth.width() == a.width());
+    REQUIRE(depth.height() == a.height());
+    const float z = frame.tree.mm_per_px * camera.fx;  // a pinhole sees Z / f mm per pixel
+    std::size_t tree = 0, wrong = 0;
+    for (int y = 0; y < depth.height(); ++y)
+      for (int x = 0; x < depth.width(); ++x) {
+        const bool on_tree = frame.tree.mask(x, y) != 0;
+        if (on_tree) ++tree;
+        if (std::abs(static_cast<float>(depth(x, y)) - (on_tree ? z : 0.0f)) > 0.5f) ++wrong;
+      }
+    CHECK(tree > 0);
+    CHECK(wrong == 0);
+    (f == 0 ? first_z : last_z) = z;
+  }
+  CHECK(first_z / last_z == doctest::Approx(o.start_distance).epsilon(1e-3));  // the 3x approach
+}

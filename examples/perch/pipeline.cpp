@@ -54,8 +54,13 @@ void add_pipeline_options(support::arg_parser& args, depth_option depth) {
                   "tendon-claw");
   args.add_option("mm-per-px", "X", "known scale: millimetres per input pixel");
   args.add_option("trunk-mm", "D", "trunk prior: the widest point of the tree is D mm wide", "180");
-  if (depth == depth_option::offered) {
+  if (depth == depth_option::offered)
     args.add_option("depth", "DEPTH.png", "16-bit depth in mm registered to the mask (0 = invalid); needs --fx --fy --cx --cy");
+  if (depth == depth_option::per_frame)
+    args.add_option("depth-dir", "DEPTH_DIR",
+                    "each frame's depth, DEPTH_DIR/NAME of the mask: 16-bit PNG in mm registered to\n"
+                    "the mask (0 = invalid); needs --fx --fy --cx --cy");
+  if (depth != depth_option::not_offered) {
     args.add_option("fx", "F", "focal length x, px");
     args.add_option("fy", "F", "focal length y, px");
     args.add_option("cx", "C", "principal point x, px");
@@ -68,47 +73,13 @@ void add_pipeline_options(support::arg_parser& args, depth_option depth) {
   args.add_flag("no-timing", "report every timing as 0 (byte-identical output across runs)");
 }
 
-std::string read_pipeline_options(const support::arg_parser& args, depth_option depth,
-                                  run_config& config) {
-  const auto platform = args.get_choice("platform", "tendon-claw", platform_names);
-  if (!platform) return platform.error;
-  for (std::size_t i = 0; i < platform_names.size(); ++i)
-    if (platform_names[i] == platform.value) config.platform = static_cast<platform_id>(i);
+namespace {
 
-  const bool has_depth = depth == depth_option::offered && args.has("depth");
-  const int scales = (args.has("mm-per-px") ? 1 : 0) + (args.has("trunk-mm") ? 1 : 0) + (has_depth ? 1 : 0);
-  if (scales > 1) return "give one of --mm-per-px, --trunk-mm, --depth";
-  const auto mm = args.get_double("mm-per-px", 0.0, 1e-6, 1e6);
-  if (!mm) return mm.error;
-  const auto trunk = args.get_double("trunk-mm", 180.0, 1e-3, 1e6);
-  if (!trunk) return trunk.error;
-  config.scale.trunk_mm = static_cast<float>(trunk.value);
-  if (args.has("mm-per-px")) {
-    config.scale.kind = scale_kind::fixed;
-    config.scale.mm_per_px = static_cast<float>(mm.value);
-  }
-  if (depth == depth_option::offered) {
-    const char* names[] = {"fx", "fy", "cx", "cy"};
-    float values[4] = {};
-    int given = 0;
-    for (int i = 0; i < 4; ++i) {
-      const auto v = args.get_double(names[i], 0.0, -1e7, 1e7);
-      if (!v) return v.error;
-      values[i] = static_cast<float>(v.value);
-      given += args.has(names[i]) ? 1 : 0;
-    }
-    if (has_depth && given != 4) return "--depth needs --fx, --fy, --cx and --cy";
-    if (!has_depth && given != 0) return "--fx, --fy, --cx, --cy need --depth";
-    if (has_depth) {
-      if (!(values[0] > 0 && values[1] > 0)) return "--fx and --fy must be positive";
-      const std::string path(*args.value("depth"));
-      auto png = png::read_png_file(path);
-      if (!png) return "cannot read depth " + path + ": " + png.error().message;
-      config.scale.kind = scale_kind::depth;
-      config.scale.depth_mm = png::to_gray16(*png);
-      config.scale.intrinsics = pinhole{values[0], values[1], values[2], values[3]};
-    }
-  }
+/// The option that gives depth: "depth" or "depth-dir".
+std::string depth_option_name(depth_option depth) { return depth == depth_option::per_frame ? "depth-dir" : "depth"; }
+
+/// The options after the scale: --roll-deg, --top, --downscale, --max-hole-px, --no-timing.
+std::string read_common_options(const support::arg_parser& args, run_config& config) {
   const auto roll = args.get_double("roll-deg", 0.0, -360.0, 360.0);
   if (!roll) return roll.error;
   config.roll_deg = static_cast<float>(roll.value);
@@ -123,6 +94,82 @@ std::string read_pipeline_options(const support::arg_parser& args, depth_option 
   config.max_hole_px = static_cast<std::int32_t>(holes.value);
   config.timing = !args.flag("no-timing");
   return {};
+}
+
+/// --depth or --depth-dir (`depth` says which) and the intrinsics: all or none, fx and fy
+/// positive; loads --depth, checks that --depth-dir is a directory.
+std::string read_depth_options(const support::arg_parser& args, depth_option depth, run_config& config) {
+  const std::string depth_name = depth_option_name(depth);
+  const bool given_depth = args.has(depth_name);
+  const char* names[] = {"fx", "fy", "cx", "cy"};
+  float values[4] = {};
+  int given = 0;
+  for (int i = 0; i < 4; ++i) {
+    const auto v = args.get_double(names[i], 0.0, -1e7, 1e7);
+    if (!v) return v.error;
+    values[i] = static_cast<float>(v.value);
+    given += args.has(names[i]) ? 1 : 0;
+  }
+  if (given_depth && given != 4) return "--" + depth_name + " needs --fx, --fy, --cx and --cy";
+  if (!given_depth && given != 0) return "--fx, --fy, --cx, --cy need --" + depth_name;
+  if (given_depth) {
+    if (!(values[0] > 0 && values[1] > 0)) return "--fx and --fy must be positive";
+    config.scale.intrinsics = pinhole{values[0], values[1], values[2], values[3]};
+    const std::filesystem::path path(std::string(*args.value(depth_name)));
+    if (depth == depth_option::per_frame) {
+      std::error_code ec;
+      if (!std::filesystem::is_directory(path, ec)) return "--depth-dir " + path.string() + " is not a directory";
+      config.scale.depth_dir = path;
+    } else {
+      config.scale.depth_mm.emplace();
+      if (std::string e = load_depth(path, *config.scale.depth_mm); !e.empty()) return e;
+      config.scale.kind = scale_kind::depth;
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string read_pipeline_options(const support::arg_parser& args, depth_option depth,
+                                  run_config& config) {
+  const auto platform = args.get_choice("platform", "tendon-claw", platform_names);
+  if (!platform) return platform.error;
+  for (std::size_t i = 0; i < platform_names.size(); ++i)
+    if (platform_names[i] == platform.value) config.platform = static_cast<platform_id>(i);
+
+  const std::string depth_name = depth_option_name(depth);
+  const bool has_depth = depth != depth_option::not_offered && args.has(depth_name);
+  const int scales = (args.has("mm-per-px") ? 1 : 0) + (args.has("trunk-mm") ? 1 : 0) + (has_depth ? 1 : 0);
+  if (scales > 1) return "give one of --mm-per-px, --trunk-mm, --" + depth_name;
+  const auto mm = args.get_double("mm-per-px", 0.0, 1e-6, 1e6);
+  if (!mm) return mm.error;
+  const auto trunk = args.get_double("trunk-mm", 180.0, 1e-3, 1e6);
+  if (!trunk) return trunk.error;
+  config.scale.trunk_mm = static_cast<float>(trunk.value);
+  if (args.has("mm-per-px")) {
+    config.scale.kind = scale_kind::fixed;
+    config.scale.mm_per_px = static_cast<float>(mm.value);
+  }
+  if (depth != depth_option::not_offered)
+    if (std::string e = read_depth_options(args, depth, config); !e.empty()) return e;
+  return read_common_options(args, config);
+}
+
+std::string load_depth(const std::filesystem::path& path, image<std::uint16_t>& out) {
+  auto png = png::read_png_file(path);
+  if (!png) return "cannot read depth " + path.string() + ": " + png.error().message;
+  out = png::to_gray16(*png);
+  return {};
+}
+
+perch_options perch_options_of(const run_config& config) {
+  perch_options options;
+  options.downscale = config.downscale;
+  options.max_hole_px = config.max_hole_px;
+  options.camera = attitude{config.roll_deg};
+  options.ranking.top_k = config.top_k;
+  return options;
 }
 
 std::string check_output_path(const std::filesystem::path& path) {
@@ -173,11 +220,7 @@ template <class Platform, class Scale>
 analysis_output run(const analysis_request& request, const run_config& config, const Platform& platform,
                     const Scale& scale, workspace& ws) {
   analysis_output out;
-  perch_options options;
-  options.downscale = config.downscale;
-  options.max_hole_px = config.max_hole_px;
-  options.camera = attitude{config.roll_deg};
-  options.ranking.top_k = config.top_k;
+  perch_options options = perch_options_of(config);
   options.clock = config.timing ? &steady_now_ns : nullptr;
   auto found = find_perch(request.mask->view(), platform, scale, ws, options);
   if (!found) {
@@ -208,18 +251,7 @@ analysis_output run(const analysis_request& request, const run_config& config, c
 
 analysis_output analyse(const analysis_request& request, const run_config& config, workspace& ws) {
   return visit_platform(config.platform, [&](const auto& platform) {
-    switch (config.scale.kind) {
-      case scale_kind::fixed:
-        return run(request, config, platform, fixed_scale{config.scale.mm_per_px}, ws);
-      case scale_kind::depth: {
-        const image<std::uint16_t>& depth = *config.scale.depth_mm;
-        return run(request, config, platform,
-                   depth_scale{depth.view(), config.scale.intrinsics}, ws);
-      }
-      case scale_kind::trunk_prior:
-        break;
-    }
-    return run(request, config, platform, trunk_prior{config.scale.trunk_mm}, ws);
+    return visit_scale(config.scale, [&](const auto& scale) { return run(request, config, platform, scale, ws); });
   });
 }
 

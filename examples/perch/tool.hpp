@@ -88,8 +88,28 @@ struct scale_config {
   float mm_per_px = 0;          ///< --mm-per-px
   float trunk_mm = 180.0f;      ///< --trunk-mm
   std::optional<image<std::uint16_t>> depth_mm;  ///< --depth (millimetres, 0 invalid)
+  std::optional<std::filesystem::path> depth_dir;  ///< --depth-dir (track: DIR/NAME per frame)
   pinhole intrinsics{};         ///< --fx --fy --cx --cy
 };
+
+/// Calls `f(policy)` with the scale policy `scale` names (`scale_kind::depth` needs `depth_mm`).
+/// Every branch must return the same type.
+template <class F>
+decltype(auto) visit_scale(const scale_config& scale, F&& f) {
+  switch (scale.kind) {
+    case scale_kind::fixed:
+      return f(fixed_scale{scale.mm_per_px});
+    case scale_kind::depth:
+      return f(depth_scale{scale.depth_mm->view(), scale.intrinsics});
+    case scale_kind::trunk_prior:
+      break;
+  }
+  return f(trunk_prior{scale.trunk_mm});
+}
+
+/// Reads a depth PNG (16-bit millimetres, 0 invalid; 8-bit widened) into `out`. Returns an
+/// error message ("cannot read depth PATH: ..."), or an empty string.
+[[nodiscard]] std::string load_depth(const std::filesystem::path& path, image<std::uint16_t>& out);
 
 /// The options of one analysis (detect, batch, graph, eval).
 struct run_config {
@@ -102,17 +122,21 @@ struct run_config {
   bool timing = true;  ///< false (--no-timing): timing_ms all 0, output byte-deterministic
 };
 
-/// Which pipeline options `add_pipeline_options` declares.
-enum class depth_option : std::uint8_t { offered, not_offered };
+/// Which pipeline options `add_pipeline_options` declares: --depth FILE (`offered`), --depth-dir
+/// DIR (`per_frame`: a depth image per mask, of the same file name), or neither.
+enum class depth_option : std::uint8_t { offered, per_frame, not_offered };
 
-/// Declares --platform, --mm-per-px, --trunk-mm, [--depth --fx --fy --cx --cy], --roll-deg,
-/// --top, --downscale, --max-hole-px, --no-timing.
+/// Declares --platform, --mm-per-px, --trunk-mm, [--depth or --depth-dir, --fx --fy --cx --cy],
+/// --roll-deg, --top, --downscale, --max-hole-px, --no-timing.
 void add_pipeline_options(support::arg_parser& args, depth_option depth);
 
-/// Reads the options declared by `add_pipeline_options` (and loads --depth). Returns an error
-/// message (empty on success).
+/// Reads the options declared by `add_pipeline_options` (and loads --depth; checks that
+/// --depth-dir is a directory). Returns an error message (empty on success).
 [[nodiscard]] std::string read_pipeline_options(const support::arg_parser& args, depth_option depth,
                                                 run_config& config);
+
+/// The `perch_options` of `config` (downscale, holes, roll, top-k; no clock).
+[[nodiscard]] perch_options perch_options_of(const run_config& config);
 
 /// How a PNG becomes a tree mask: by default any non-zero colour sample is tree; `threshold`:
 /// tree where the 8-bit gray level is above it; `invert`: the other pixels are tree.

@@ -148,11 +148,22 @@ std::vector<std::filesystem::path> frames_of(const std::filesystem::path& dir, s
   return frames;
 }
 
-void write_track_fields(st::json_writer& json, const perch_track& t) {
+/// A track's id, state and pixel; with `metric` (--depth-dir) its smoothed camera-frame
+/// position in metres, or null while no frame has given it depth.
+void write_track_fields(st::json_writer& json, const perch_track& t, bool metric) {
   json.key("id").value(static_cast<std::int64_t>(t.id))
       .key("state").value(to_string(t.state))
       .key("x").value(static_cast<double>(t.position_px.x()))
       .key("y").value(static_cast<double>(t.position_px.y()));
+  if (!metric) return;
+  json.key("position_m");
+  if (!t.has_position) {
+    json.null();
+    return;
+  }
+  json.begin_array(st::json_layout::single_line);
+  for (const float v : {t.position_m.x(), t.position_m.y(), t.position_m.z()}) json.value(static_cast<double>(v));
+  json.end_array();
 }
 
 /// `"doubtful"`: null, or the rule the target's spot failed and by how much (a target kept
@@ -180,7 +191,22 @@ struct frame_report {
   std::string_view motion_source = "identity";  ///< given, estimated or identity
   camera_motion motion{};
   float find_ms = 0, track_ms = 0;
+  bool depth_wanted = false;  ///< --depth-dir: the line says what became of the frame's depth
+  std::string_view depth;     ///< ok, missing, unreadable, wrong_size, no_valid_depth; empty: not looked for
+  std::string depth_error;    ///< why, for unreadable and wrong_size
 };
+
+/// `"depth"` (with --depth-dir): what became of the frame's depth image, null when its mask
+/// could not be read; and `"depth_error"` when there is one.
+void write_depth(st::json_writer& json, const frame_report& f) {
+  if (!f.depth_wanted) return;
+  json.key("depth");
+  if (f.depth.empty())
+    json.null();
+  else
+    json.value(f.depth);
+  if (!f.depth_error.empty()) json.key("depth_error").value(f.depth_error);
+}
 
 std::string frame_json(const frame_report& f) {
   st::json_writer json;
@@ -190,10 +216,11 @@ std::string frame_json(const frame_report& f) {
       .key("input").value(f.input)
       .key("status").value(to_string(r.status));
   if (!f.error.empty()) json.key("error").value(f.error);
+  write_depth(json, f);
   json.key("target");
   if (r.target != nullptr) {
     json.begin_object();
-    write_track_fields(json, *r.target);
+    write_track_fields(json, *r.target, f.depth_wanted);
     json.key("heading_deg").value(static_cast<double>(r.target->heading_deg))
         .key("slope_deg").value(static_cast<double>(r.target->slope_deg))
         .key("diameter_mm").value(static_cast<double>(r.target->diameter_mm))
@@ -221,7 +248,7 @@ std::string frame_json(const frame_report& f) {
   json.key("tracks").begin_array();
   for (const perch_track& t : r.tracks) {
     json.begin_object();
-    write_track_fields(json, t);
+    write_track_fields(json, t, f.depth_wanted);
     json.key("age").value(static_cast<std::int64_t>(t.age))
         .key("hits").value(static_cast<std::int64_t>(t.hits))
         .key("misses").value(static_cast<std::int64_t>(t.misses))
@@ -241,28 +268,69 @@ std::string frame_json(const frame_report& f) {
   return std::move(json).take();
 }
 
-template <class Platform, class Scale>
-result<perch_result> find_with(const image<std::uint8_t>& mask, const run_config& config,
-                               const Platform& platform, const Scale& scale, workspace& ws) {
-  perch_options options;
-  options.downscale = config.downscale;
-  options.max_hole_px = config.max_hole_px;
-  options.camera = attitude{config.roll_deg};
-  options.ranking.top_k = config.top_k;
-  return find_perch(mask.view(), platform, scale, ws, options);
+/// `find_perch` on `mask` with `config`'s options and scale.
+template <class Platform>
+result<perch_result> find_with(const image<std::uint8_t>& mask, const run_config& config, const Platform& platform,
+                               workspace& ws) {
+  return visit_scale(config.scale, [&](const auto& scale) {
+    return find_perch(mask.view(), platform, scale, ws, perch_options_of(config));
+  });
 }
 
-/// `find_perch` with the tool's options, then `tracker.update`; then `on_tracked(found or null,
-/// the platform's geometry, the tracking)` while the workspace still holds the analysis.
+/// With --depth-dir: `config` with the frame's depth image (DEPTH_DIR/NAME of `file`) as its
+/// scale, when that image can be read and has the mask's size; `report.depth` says which.
+std::optional<run_config> with_frame_depth(const run_config& config, const std::filesystem::path& file,
+                                           const image<std::uint8_t>& mask, frame_report& report) {
+  if (!config.scale.depth_dir) return std::nullopt;
+  const std::filesystem::path path = *config.scale.depth_dir / file.filename();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) {
+    report.depth = "missing";
+    return std::nullopt;
+  }
+  run_config out = config;
+  out.scale.depth_mm.emplace();
+  if (std::string e = load_depth(path, *out.scale.depth_mm); !e.empty()) {
+    report.depth = "unreadable";
+    report.depth_error = std::move(e);
+    return std::nullopt;
+  }
+  const image<std::uint16_t>& depth = *out.scale.depth_mm;
+  if (depth.width() != mask.width() || depth.height() != mask.height()) {
+    report.depth = "wrong_size";
+    report.depth_error = "depth " + path.string() + " is " + std::to_string(depth.width()) + " x " +
+                         std::to_string(depth.height()) + ", the mask " + std::to_string(mask.width()) + " x " +
+                         std::to_string(mask.height());
+    return std::nullopt;
+  }
+  report.depth = "ok";
+  out.scale.kind = scale_kind::depth;
+  return out;
+}
+
+/// `find_perch` with the frame's depth when it has one (`depth`), else with `config`'s scale;
+/// depth with no valid sample on the tree is dropped for that scale (`report.depth`).
+template <class Platform>
+result<perch_result> find_in_frame(const image<std::uint8_t>& mask, const run_config& config,
+                                   const run_config* depth, const Platform& platform, workspace& ws,
+                                   frame_report& report) {
+  if (depth == nullptr) return find_with(mask, config, platform, ws);
+  auto found = find_with(mask, *depth, platform, ws);
+  if (found || found.error().code != errc::no_valid_depth) return found;
+  report.depth = "no_valid_depth";
+  return find_with(mask, config, platform, ws);
+}
+
+/// `find_perch` with the tool's options (and the frame's depth when `depth` is not null), then
+/// `tracker.update`; then `on_tracked(found or null, the platform's geometry, the tracking)`
+/// while the workspace still holds the analysis.
 template <class OnTracked>
-tracking_result analyse_and_track(const image<std::uint8_t>& mask, const run_config& config,
+tracking_result analyse_and_track(const image<std::uint8_t>& mask, const run_config& config, const run_config* depth,
                                   perch_tracker& tracker, motion_estimator& estimator, workspace& ws,
                                   frame_report& report, OnTracked&& on_tracked) {
   return visit_platform(config.platform, [&](const auto& platform) {
     const std::int64_t t0 = steady_ns();
-    auto found = config.scale.kind == scale_kind::fixed
-                     ? find_with(mask, config, platform, fixed_scale{config.scale.mm_per_px}, ws)
-                     : find_with(mask, config, platform, trunk_prior{config.scale.trunk_mm}, ws);
+    auto found = find_in_frame(mask, config, depth, platform, ws, report);
     const std::int64_t t1 = steady_ns();
     if (!found) report.error = describe(found.error());
     if (found) {
@@ -369,6 +437,14 @@ std::string read_picture_options(const st::arg_parser& args, track_pictures& pic
   return {};
 }
 
+/// OUT/intrinsics.csv of `perch synth --sequence --depth`: a header and one line fx,fy,cx,cy.
+std::string write_intrinsics(const std::filesystem::path& path, const pinhole& camera) {
+  char text[200];
+  std::snprintf(text, sizeof text, "fx,fy,cx,cy\n%.9g,%.9g,%.9g,%.9g\n", static_cast<double>(camera.fx),
+                static_cast<double>(camera.fy), static_cast<double>(camera.cx), static_cast<double>(camera.cy));
+  return write_text(path, text);
+}
+
 }  // namespace
 
 int run_track(int argc, const char* const* argv) {
@@ -397,7 +473,7 @@ int run_track(int argc, const char* const* argv) {
   args.add_option("apng-width", "W", "the animation's width in pixels; 0: the frames' width", "0");
   args.add_option("apng-delay-ms", "MS", "how long each frame shows", "100");
   args.add_option("apng-hold-ms", "MS", "how long a frame where the target changes shows", "1000");
-  add_pipeline_options(args, depth_option::not_offered);
+  add_pipeline_options(args, depth_option::per_frame);
   add_mask_options(args);
   args.set_epilog(
       "Each line: {\"frame\", \"input\", \"status\", \"target\": {\"id\", \"state\", \"x\", \"y\",\n"
@@ -406,16 +482,25 @@ int run_track(int argc, const char* const* argv) {
       "\"constraint\", \"miss\", \"unit\", \"frames\"]} or null, \"tracks\": [{\"id\", \"state\", \"x\", \"y\", \"age\", \"hits\",\n"
       "\"misses\", \"penalty\"}], \"motion\": {\"source\": given|estimated|identity, \"h\"}, \"timing_ms\": {\"find_perch\", \"track\"}}.\n"
       "status: ok, no_perch, no_tree, wrong_size, bad_motion, missing_frame (an unreadable mask or\n"
-      "a failed analysis, with \"error\"). Exit status: 0; 2 for bad arguments (a bad CSV,\n"
+      "a failed analysis, with \"error\").\n"
+      "With --depth-dir, after \"status\": \"depth\": ok, missing, unreadable, wrong_size (with\n"
+      "\"depth_error\") or no_valid_depth (no depth on the tree), null for an unreadable mask; a\n"
+      "frame without usable depth is analysed with --scale-csv or the trunk prior. The target and\n"
+      "each track gain \"position_m\": [x, y, z], the smoothed camera-frame position in metres (x\n"
+      "right, y down, z along the optical axis), or null until a frame gave the track depth; it\n"
+      "is not moved with the motion (it trails a fast approach, and stays put while a track coasts).\n"
+      "Exit status: 0; 2 for bad arguments (a bad CSV, missing or bad intrinsics,\n"
       "an --annotate or --apng path that cannot be written); 1 when writing a picture fails.\n"
       "Example: perch synth --sequence 7 --out seq7 && perch track seq7 --motion seq7/motion.csv\n"
       "         --roll-csv seq7/camera.csv --scale-csv seq7/camera.csv --apng track.png\n"
-      "         --apng-width 480 > seq7/track.jsonl");
+      "         --apng-width 480 > seq7/track.jsonl\n"
+      "With depth: perch synth --sequence 7 --depth --out seq7 && perch track seq7 --depth-dir\n"
+      "         seq7/depth --fx 960 --fy 960 --cx 479.5 --cy 359.5 (seq7/intrinsics.csv's values)");
   int exit = exit_ok;
   if (!parse_or_exit(args, argc, argv, "track", exit)) return exit;
   run_config config;
   mask_reading reading;
-  for (const std::string& e : {read_pipeline_options(args, depth_option::not_offered, config),
+  for (const std::string& e : {read_pipeline_options(args, depth_option::per_frame, config),
                                read_mask_options(args, reading)})
     if (!e.empty()) {
       report_error("track", e);
@@ -454,6 +539,7 @@ int run_track(int argc, const char* const* argv) {
     frame_report report;
     report.frame = static_cast<int>(i);
     report.input = frames[i].string();
+    report.depth_wanted = config.scale.depth_dir.has_value();
     const auto given = motions.find(report.frame);
     if (given != motions.end()) {
       report.motion_source = "given";
@@ -477,7 +563,9 @@ int run_track(int argc, const char* const* argv) {
         frame_config.scale.kind = scale_kind::fixed;
         frame_config.scale.mm_per_px = *scale;
       }
-      r = analyse_and_track(mask.pixels, frame_config, tracker, estimator, ws, report,
+      const std::optional<run_config> depth_config = with_frame_depth(frame_config, frames[i], mask.pixels, report);
+      r = analyse_and_track(mask.pixels, frame_config, depth_config ? &*depth_config : nullptr, tracker, estimator, ws,
+                            report,
                             [&](const perch_result* found, const platform_geometry& geometry, const tracking_result& t) {
                               if (pictures.wanted())
                                 picture_error = pictures.add(report.frame, frames[i], &mask.pixels, found, geometry, t,
@@ -513,6 +601,13 @@ int run_synth_sequence(int argc, const char* const* argv) {
   args.add_option("sequence", "I", "sequence index (perch eval --sequences uses 0 … N-1)", "0");
   args.add_option("frames", "F", "frames", "90");
   args.add_option("out", "DIR", "output directory (created if missing)");
+  args.add_flag("depth",
+                "also write OUT/depth/frame-NNNN.png (16-bit, mm: the tree at the camera's\n"
+                "distance, 0 elsewhere) and OUT/intrinsics.csv (fx,fy,cx,cy of that camera),\n"
+                "for perch track --depth-dir");
+  args.set_epilog(
+      "Example: perch synth --sequence 7 --depth --out seq7 && perch track seq7 --depth-dir seq7/depth\n"
+      "         --fx 960 --fy 960 --cx 479.5 --cy 359.5 (the values of seq7/intrinsics.csv)");
   int exit = exit_ok;
   if (!parse_or_exit(args, argc, argv, "synth", exit)) return exit;
   const auto index = args.get_int("sequence", 0, 0, 1000000);
@@ -527,13 +622,21 @@ int run_synth_sequence(int argc, const char* const* argv) {
     return exit_usage;
   }
   const std::filesystem::path dir(std::string(*args.value("out")));
-  if (const std::string e = make_output_dir(dir, "frame-0000.png"); !e.empty()) {
-    report_error("synth", e);
+  const bool depth = args.flag("depth");
+  std::string problem = make_output_dir(dir, "frame-0000.png");
+  if (problem.empty() && depth) problem = make_output_dir(dir / "depth", "frame-0000.png");
+  if (!problem.empty()) {
+    report_error("synth", problem);
     return exit_usage;
   }
   st::sequence_options options;
   options.frames = frames.value;
   const st::approach_sequence seq = st::evaluation_sequence(index.value, options);
+  if (depth)
+    if (const std::string e = write_intrinsics(dir / "intrinsics.csv", seq.camera()); !e.empty()) {
+      report_error("synth", e);
+      return exit_internal;
+    }
   std::string motion_csv = "# frame,h00,h01,h02,h10,h11,h12,h20,h21,h22: previous frame -> this\n";
   std::string camera_csv = "frame,roll_deg,mm_per_px,scale\n";
   char line[400];
@@ -544,8 +647,11 @@ int run_synth_sequence(int argc, const char* const* argv) {
     image<std::uint8_t> png_mask(frame.mask.width(), frame.mask.height(), 0);
     for (int y = 0; y < png_mask.height(); ++y)
       for (int x = 0; x < png_mask.width(); ++x) png_mask(x, y) = frame.mask(x, y) != 0 ? 255 : 0;
-    const png::png_status written =
+    png::png_status written =
         png::write_png(dir / (std::string(name) + ".png"), image_view<const std::uint8_t>(png_mask.view()));
+    if (written && depth)
+      written = png::write_png(dir / "depth" / (std::string(name) + ".png"),
+                               image_view<const std::uint16_t>(seq.depth_mm(frame).view()));
     if (!written) {
       report_error("synth", written.error().message);
       return exit_internal;

@@ -10,9 +10,11 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -94,6 +96,15 @@ json_value parse(const std::string& text) {
   const auto doc = perch::tool::parse_json(text, error);
   REQUIRE_MESSAGE(doc.has_value(), error << "\n" << text);
   return *doc;
+}
+
+/// One document per line (perch track's output).
+std::vector<json_value> parse_lines(const std::string& text) {
+  std::vector<json_value> out;
+  std::size_t start = 0;
+  for (std::size_t end; (end = text.find('\n', start)) != std::string::npos; start = end + 1)
+    out.push_back(parse(text.substr(start, end - start)));
+  return out;
 }
 
 const json_value& member(const json_value& v, const char* key) {
@@ -576,20 +587,110 @@ TEST_CASE("synth --sequence, track and eval --sequences: frames, one JSON line p
   const run_result t =
       run_perch({"track", frames.string(), "--motion", (frames / "motion.csv").string()}, dir);
   REQUIRE_MESSAGE(t.exit_code == 0, t.err);
-  std::size_t lines = 0, start = 0;
-  for (std::size_t end; (end = t.out.find('\n', start)) != std::string::npos; start = end + 1, ++lines) {
-    const json_value line = parse(t.out.substr(start, end - start));
-    CHECK(member(line, "frame").number == static_cast<double>(lines));
-    CHECK(member(member(line, "motion"), "source").text == "given");
-    const std::string status = member(line, "status").text;
+  const std::vector<json_value> lines = parse_lines(t.out);
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    CHECK(member(lines[i], "frame").number == static_cast<double>(i));
+    CHECK(member(member(lines[i], "motion"), "source").text == "given");
+    const std::string status = member(lines[i], "status").text;
     CHECK((status == "ok" || status == "no_perch"));
+    CHECK(lines[i].find("depth") == nullptr);  // without --depth-dir: the lines as they were
   }
-  CHECK(lines == 12);
+  CHECK(t.out.find("position_m") == std::string::npos);
+  CHECK(lines.size() == 12);
   const run_result bad = run_perch({"track", (dir / "missing").string()}, dir);
   CHECK(bad.exit_code == 2);
   const run_result e = run_perch({"eval", "--sequences", "2", "--frames", "10", "--quiet"}, dir);
   REQUIRE_MESSAGE(e.exit_code == 0, e.err);
   CHECK(e.out.find("target on a feasible stretch") != std::string::npos);
+}
+
+TEST_CASE("track --depth-dir: metric positions from each frame's depth; missing or wrong-size depth flagged") {
+  const fs::path dir = scratch("track_depth");
+  const fs::path frames = dir / "frames", depth = frames / "depth";
+  const run_result s =
+      run_perch({"synth", "--sequence", "8", "--frames", "30", "--depth", "--out", frames.string()}, dir);
+  REQUIRE_MESSAGE(s.exit_code == 0, s.err);
+  // intrinsics.csv: a header, then fx,fy,cx,cy.
+  const std::string intrinsics = read_file(frames / "intrinsics.csv");
+  REQUIRE(intrinsics.rfind("fx,fy,cx,cy\n", 0) == 0);
+  std::vector<std::string> camera;
+  std::istringstream values(intrinsics.substr(12));
+  for (std::string v; std::getline(values, v, ',');) camera.push_back(v.substr(0, v.find('\n')));
+  REQUIRE(camera.size() == 4);
+  const double fx = std::stod(camera[0]), cx = std::stod(camera[2]);
+  // Frame 4's depth is missing, frame 6's is of another size, frame 8's has no valid sample,
+  // frame 10's is not a PNG.
+  fs::remove(depth / "frame-0004.png");
+  perch::image<std::uint16_t> small(40, 30, 2000);
+  REQUIRE(perch::png::write_png(depth / "frame-0006.png", perch::image_view<const std::uint16_t>(small.view())));
+  const perch::png::decoded_png mask = decode(frames / "frame-0008.png");
+  perch::image<std::uint16_t> invalid(mask.width, mask.height, 0);
+  REQUIRE(perch::png::write_png(depth / "frame-0008.png", perch::image_view<const std::uint16_t>(invalid.view())));
+  std::ofstream(depth / "frame-0010.png") << "not a PNG";
+  const std::map<std::size_t, std::string> flagged = {
+      {4, "missing"}, {6, "wrong_size"}, {8, "no_valid_depth"}, {10, "unreadable"}};
+  const std::vector<std::string> track = {"track", frames.string(), "--motion", (frames / "motion.csv").string(),
+                                          "--no-timing", "--depth-dir", depth.string(), "--fx", camera[0],
+                                          "--fy", camera[1], "--cx", camera[2], "--cy", camera[3]};
+  const run_result t = run_perch(track, dir);
+  REQUIRE_MESSAGE(t.exit_code == 0, t.err);
+  const std::vector<json_value> lines = parse_lines(t.out);
+  REQUIRE(lines.size() == 30);
+  std::size_t new_tracks = 0, targets = 0;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    CAPTURE(i);
+    const json_value& line = lines[i];
+    const auto flag = flagged.find(i);
+    CHECK(member(line, "depth").text == (flag != flagged.end() ? flag->second : "ok"));
+    CHECK(member(line, "status").text == "ok");  // analysed all the same
+    CHECK((line.find("depth_error") != nullptr) == (i == 6 || i == 10));
+    const json_value& target = member(line, "target");
+    if (target.is_object()) {
+      const json_value& p = member(target, "position_m");
+      REQUIRE(p.is_array());
+      REQUIRE(p.items.size() == 3);
+      for (const json_value& v : p.items) CHECK(std::isfinite(v.number));
+      ++targets;
+    }
+    if (flag != flagged.end()) continue;
+    // The depth written for this frame (every tree pixel at the camera's distance), metres.
+    char name[32];
+    std::snprintf(name, sizeof name, "frame-%04zu.png", i);
+    const perch::image<std::uint16_t> written = perch::png::to_gray16(decode(depth / name));
+    const double z = *std::max_element(written.data(), written.data() + written.width() * written.height()) / 1000.0;
+    for (const json_value& tr : member(line, "tracks").items) {
+      if (member(tr, "hits").number != 1 || member(tr, "misses").number != 0) continue;
+      // A track first seen in this frame: its position is this frame's, back-projected.
+      const json_value& p = member(tr, "position_m");
+      REQUIRE(p.is_array());
+      CHECK(p.items[2].number == doctest::Approx(z).epsilon(0.01));
+      CHECK(p.items[0].number == doctest::Approx((member(tr, "x").number - cx) * z / fx).epsilon(0.01));
+      ++new_tracks;
+    }
+  }
+  CHECK(new_tracks >= 3);
+  CHECK(targets >= 15);
+
+  struct bad {
+    std::vector<std::string> extra;
+    const char* message;
+  };
+  for (const bad& b : std::vector<bad>{
+           {{"--depth-dir", depth.string()}, "--depth-dir needs --fx, --fy, --cx and --cy"},
+           {{"--depth-dir", depth.string(), "--fx", "0", "--fy", "800", "--cx", "1", "--cy", "1"}, "must be positive"},
+           {{"--depth-dir", depth.string(), "--fx", "nan", "--fy", "800", "--cx", "1", "--cy", "1"}, "expected a number"},
+           {{"--fx", "800", "--fy", "800", "--cx", "1", "--cy", "1"}, "need --depth-dir"},
+           {{"--depth-dir", (dir / "none").string(), "--fx", "8", "--fy", "8", "--cx", "1", "--cy", "1"}, "not a directory"},
+           {{"--depth-dir", depth.string(), "--fx", "8", "--fy", "8", "--cx", "1", "--cy", "1", "--mm-per-px", "2"},
+            "give one of"}}) {
+    std::vector<std::string> args = {"track", frames.string()};
+    args.insert(args.end(), b.extra.begin(), b.extra.end());
+    CAPTURE(b.message);
+    const run_result r = run_perch(args, dir);
+    CHECK(r.exit_code == 2);
+    CHECK(r.err.find(b.message) != std::string::npos);
+    CHECK(r.out.empty());
+  }
 }
 
 /// The chunks of a PNG file: (type, data), each CRC checked with zlib's crc32.

@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "perch/analysis/scale.hpp"
 #include "perch/track/motion.hpp"
 #include "support/population.hpp"
 #include "support/synthetic_tree.hpp"
@@ -114,6 +115,27 @@ class approach_sequence {
   [[nodiscard]] int width() const noexcept { return width_; }
   [[nodiscard]] int height() const noexcept { return height_; }
   [[nodiscard]] const sequence_options& options() const noexcept { return options_; }
+
+  /// The pinhole camera `depth_mm` assumes: focal length the frame's width in pixels (a 53°
+  /// horizontal field of view), principal point at the frame's centre.
+  [[nodiscard]] pinhole camera() const noexcept {
+    const auto f = static_cast<float>(width_);
+    return {f, f, 0.5f * static_cast<float>(width_ - 1), 0.5f * static_cast<float>(height_ - 1)};
+  }
+
+  /// What a depth camera registered to `frame`'s mask would see, millimetres along the optical
+  /// axis: the tree (its clean render, `frame.tree.mask`) on a plane facing the camera at the
+  /// distance where `camera()` sees `frame.tree.mm_per_px` (Z = mm/px · f), 0 (no return)
+  /// elsewhere.
+  [[nodiscard]] image<std::uint16_t> depth_mm(const sequence_frame& frame) const {
+    const float z = std::min(frame.tree.mm_per_px * camera().fx, 65535.0f);
+    const auto value = static_cast<std::uint16_t>(std::lround(z));
+    image<std::uint16_t> out(width_, height_, 0);
+    for (int y = 0; y < height_; ++y)
+      for (int x = 0; x < width_; ++x)
+        if (frame.tree.mask(x, y) != 0) out(x, y) = value;
+    return out;
+  }
 
   /// Frame `f` (0 … frames − 1).
   [[nodiscard]] sequence_frame frame(int f) const {
