@@ -580,6 +580,40 @@ synthetic_tree two_level_limbs(float gap, float d_other, limb_kind other_kind = 
 
 }  // namespace
 
+TEST_CASE("bias_radii and shift_outline: limbs drawn thicker or thinner, the rest kept") {
+  // A level limb 5.6 px thick along y = 10: columns of 5 px (|dy| <= 2.8). A lone noise pixel
+  // and a pinhole away from the limb's outline stay whatever the bias.
+  auto column = [](const synthetic_tree& t, int x) {
+    int n = 0;
+    for (int y = 0; y < t.mask.height(); ++y) n += t.mask(x, y) != 0 ? 1 : 0;
+    return n;
+  };
+  auto make = []() {
+    synthetic_tree t = hand_tree(60, 21, 1.0f, {straight_limb(Vec(5, 10), Vec(50, 10), 5.6f, 5.6f)});
+    t.mask(56, 2) = 1;   // noise
+    t.mask(30, 10) = 0;  // pinhole on the axis
+    return t;
+  };
+  const synthetic_tree drawn = make();
+  CHECK(column(drawn, 20) == 5);
+  for (const auto& [bias, width] : {std::pair{0.5f, 7}, std::pair{0.1f, 5}, std::pair{-0.5f, 5},
+                                    std::pair{-0.9f, 3}, std::pair{-3.0f, 0}}) {
+    CAPTURE(bias);
+    synthetic_tree t = make();
+    perch::support::bias_radii(t, bias);
+    CHECK(column(t, 20) == width);
+    CHECK(t.mask(56, 2) != 0);
+    CHECK(t.mask(30, 10) == (bias > 0.0f ? 1 : 0));  // a thicker limb is drawn over its pinhole
+    CHECK(t.limbs[0].diameter_px[0] == 5.6f);        // the truth stays
+  }
+  synthetic_tree wider = make(), narrower = make();
+  perch::support::shift_outline(wider.mask, 1);
+  perch::support::shift_outline(narrower.mask, -1);
+  CHECK(column(wider, 20) == 7);
+  CHECK(column(narrower, 20) == 3);
+  CHECK(narrower.mask(56, 2) == 0);  // a whole-pixel erosion takes the lone pixel too
+}
+
 TEST_CASE("perch_truth: clearance is 70 mm from every other limb's surface at least 20 mm thick") {
   {
     const synthetic_tree tree = two_level_limbs(69.0f, 40.0f);

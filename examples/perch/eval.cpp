@@ -489,6 +489,8 @@ int run_eval(int argc, const char* const* argv) {
   args.add_flag("known-scale", "use the truth's mm/px (fixed scale); the default with --population");
   args.add_option("outline-bias", "PX", "move every outline out by PX pixels first (-3 to 3): a segmenter that\n"
                                         "over- (PX > 0) or under-segments (PX < 0); the truth stays", "0");
+  args.add_option("radius-bias", "PX", "draw every limb with its radius PX larger first, sub-pixel too (-2 to 2):\n"
+                                       "a generator that rasterises otherwise (0.5: any covered pixel counts)", "0");
   args.add_option("rows", "WHICH", "per-tree rows: all, failures or none (default: all for DIR, failures\n"
                                    "for --population)");
   args.add_option("jobs", "N", "worker threads; 0 = all cores", "0", 'j');
@@ -533,6 +535,11 @@ int run_eval(int argc, const char* const* argv) {
   const auto outline_bias = args.get_int("outline-bias", 0, -3, 3);
   if (!outline_bias) {
     report_error("eval", outline_bias.error);
+    return exit_usage;
+  }
+  const auto radius_bias = args.get_double("radius-bias", 0.0, -2.0, 2.0);
+  if (!radius_bias) {
+    report_error("eval", radius_bias.error);
     return exit_usage;
   }
   const bool population = args.has("population");
@@ -624,6 +631,7 @@ int run_eval(int argc, const char* const* argv) {
           rec.kind = m.kind;
           rec.knobs = split_knobs(m.kind);
           rec.built_without_perch = m.built_without_perch;
+          st::bias_radii(m.tree, static_cast<float>(radius_bias.value));
           st::shift_outline(m.tree.mask, outline_bias.value);
           evaluate(rec, m.tree, spec, config_for(m.tree.mm_per_px), *spaces[worker]);
           progress.tick();
@@ -656,6 +664,7 @@ int run_eval(int argc, const char* const* argv) {
         }
         tree.limbs = std::move(truth.limbs);
         tree.mm_per_px = truth.mm_per_px;
+        st::bias_radii(tree, static_cast<float>(radius_bias.value));
         st::shift_outline(tree.mask, outline_bias.value);
         evaluate(rec, tree, spec, config_for(truth.mm_per_px), *spaces[worker]);
         progress.tick();
