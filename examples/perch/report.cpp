@@ -27,12 +27,6 @@ void write_pixel(json_writer& json, std::string_view key, pixel p) {
   json.key(key).begin_array(json_layout::single_line).value(p.x).value(p.y).end_array();
 }
 
-void write_point3(json_writer& json, std::string_view key, const point3f& v) {
-  json.key(key).begin_array(json_layout::single_line);
-  for (int i = 0; i < 3; ++i) json.value(tidy(v[i]));
-  json.end_array();
-}
-
 void write_site(json_writer& json, const perch_site& s) {
   const window_measures& m = s.window;
   json.begin_object();
@@ -108,6 +102,12 @@ std::string no_perch_reason(const perch_result& r, const platform_geometry& geom
   return "no window measured: no limb has a stretch clear of junctions one drone width (" +
          format_mm(geometry.drone_width_mm) + ") long; the longest limb is " +
          format_mm(longest_limb_px(r) * analysed_mm_per_px) + " end to end";
+}
+
+void write_point3(json_writer& json, std::string_view key, const point3f& v) {
+  json.key(key).begin_array(json_layout::single_line);
+  for (int i = 0; i < 3; ++i) json.value(tidy(v[i]));
+  json.end_array();
 }
 
 void write_source(json_writer& json, const document_source& source) {

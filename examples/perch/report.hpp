@@ -56,4 +56,7 @@ struct document_source {
 /// Writes `"version"`, `"input"` and (when any) `"warnings"` into the open object of `json`.
 void write_source(support::json_writer& json, const document_source& source);
 
+/// Writes `"KEY": [x, y, z]`, each rounded to 1e-4 relative steps, into the open object of `json`.
+void write_point3(support::json_writer& json, std::string_view key, const point3f& v);
+
 }  // namespace perch::tool

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "annotate.hpp"
+#include "report.hpp"
 #include "perch/track.hpp"
 #include "support/json_writer.hpp"
 #include "support/sequence.hpp"
@@ -148,22 +149,25 @@ std::vector<std::filesystem::path> frames_of(const std::filesystem::path& dir, s
   return frames;
 }
 
-/// A track's id, state and pixel; with `metric` (--depth-dir) its smoothed camera-frame
-/// position in metres, or null while no frame has given it depth.
+/// `"KEY": [x, y, z]` when `known`, else `"KEY": null`.
+void write_point_or_null(st::json_writer& json, std::string_view key, const point3f& p, bool known) {
+  if (known)
+    write_point3(json, key, p);
+  else
+    json.key(key).null();
+}
+
+/// A track's id, state and pixel; with `metric` (--depth-dir) its camera-frame position in
+/// metres (null while no frame has given it depth) and this frame's measurement of it (null
+/// when it was not matched to a site with depth in this frame).
 void write_track_fields(st::json_writer& json, const perch_track& t, bool metric) {
   json.key("id").value(static_cast<std::int64_t>(t.id))
       .key("state").value(to_string(t.state))
       .key("x").value(static_cast<double>(t.position_px.x()))
       .key("y").value(static_cast<double>(t.position_px.y()));
   if (!metric) return;
-  json.key("position_m");
-  if (!t.has_position) {
-    json.null();
-    return;
-  }
-  json.begin_array(st::json_layout::single_line);
-  for (const float v : {t.position_m.x(), t.position_m.y(), t.position_m.z()}) json.value(static_cast<double>(v));
-  json.end_array();
+  write_point_or_null(json, "position_m", t.position_m, t.has_position);
+  write_point_or_null(json, "measured_m", t.measured_m, t.measured);
 }
 
 /// `"doubtful"`: null, or the rule the target's spot failed and by how much (a target kept
@@ -486,9 +490,12 @@ int run_track(int argc, const char* const* argv) {
       "With --depth-dir, after \"status\": \"depth\": ok, missing, unreadable, wrong_size (with\n"
       "\"depth_error\") or no_valid_depth (no depth on the tree), null for an unreadable mask; a\n"
       "frame without usable depth is analysed with --scale-csv or the trunk prior. The target and\n"
-      "each track gain \"position_m\": [x, y, z], the smoothed camera-frame position in metres (x\n"
-      "right, y down, z along the optical axis), or null until a frame gave the track depth; it\n"
-      "is not moved with the motion (it trails a fast approach, and stays put while a track coasts).\n"
+      "each track gain \"position_m\": [x, y, z], the camera-frame position in metres (x right,\n"
+      "y down, z along the optical axis) of the track's pixel at its depth, or null until a frame\n"
+      "gave the track depth: the depth is predicted with the motion's scale (a limb that looks s\n"
+      "times larger is s times nearer) and smoothed toward each frame's, so the position follows\n"
+      "the approach and keeps following it while a track coasts; and \"measured_m\": this frame's\n"
+      "unsmoothed measurement of the matched site, or null when not matched to a site with depth.\n"
       "Exit status: 0; 2 for bad arguments (a bad CSV, missing or bad intrinsics,\n"
       "an --annotate or --apng path that cannot be written); 1 when writing a picture fails.\n"
       "Example: perch synth --sequence 7 --out seq7 && perch track seq7 --motion seq7/motion.csv\n"
@@ -533,7 +540,7 @@ int run_track(int argc, const char* const* argv) {
         return exit_usage;
       }
   workspace ws;
-  perch_tracker tracker;
+  perch_tracker tracker({}, config.scale.depth_dir ? std::optional(config.scale.intrinsics) : std::nullopt);
   motion_estimator estimator;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     frame_report report;

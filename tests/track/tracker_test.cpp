@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSL-1.0
 // perch_tracker: association across a known motion, crossing limbs kept apart, hysteresis
 // (a dropout keeps the target, a better track takes over only after the margin holds), bad
-// input statuses, no allocation per frame after warm-up, determinism.
+// input statuses, metric positions that follow an approach, no allocation per frame after
+// warm-up, determinism.
 #include "perch/track.hpp"
 
 #include <doctest/doctest.h>
@@ -313,6 +314,53 @@ TEST_CASE("a miss beyond the rule's noise is never kept past infeasible_frames")
   }
 }
 
+TEST_CASE("with depth, the metric position follows an approach, also while the track coasts") {
+  // A limb facing the camera 6 m away, 1 % nearer each frame: its picture grows by 1/0.99 about
+  // the principal point. Frames 10 to 13 lose the site (the mask missed it).
+  const perch::pinhole camera{500, 500, 320, 240};
+  const point2f principal(camera.cx, camera.cy), start(420, 300);
+  const float step = 0.99f;
+  const camera_motion approach = camera_motion::similarity_about(principal, 1 / step, 0, {0, 0});
+  perch::perch_tracker tracker({}, camera), without_camera;
+  float z = 6.0f, zoom = 1.0f;
+  std::uint32_t id = 0;
+  for (int f = 0; f < 18; ++f) {
+    CAPTURE(f);
+    const point2f truth_px = principal + zoom * (start - principal);
+    const bool seen = f < 10 || f > 13;
+    std::vector<perch_site> sites;
+    if (seen) {
+      perch_site s = site_at(truth_px, 10.0f, 0.2f, 60.0f * zoom);
+      s.window.has_position = true;
+      s.window.position_m = camera.back_project(perch::to_point(s.window.centre), z);
+      sites.push_back(s);
+    }
+    const perch_result frame = frame_of(sites);
+    const camera_motion motion = f == 0 ? camera_motion::identity() : approach;
+    const auto r = tracker.update(frame, motion);
+    const auto plain = without_camera.update(frame, motion);
+    REQUIRE(r.tracks.size() == 1);
+    const perch::perch_track& t = r.tracks[0];
+    if (f == 0) id = t.id;
+    CHECK(t.id == id);
+    REQUIRE(t.has_position);
+    CHECK(t.measured == seen);
+    if (seen) CHECK((t.measured_m - sites[0].window.position_m).norm() == 0);
+    // Within 1 % of the truth in depth, and the point is the limb's (the track's pixel).
+    CHECK(std::abs(t.position_m.z() - z) <= 0.01f * z);
+    CHECK((t.position_m - camera.back_project(truth_px, z)).norm() <= 0.015f * z);
+    CHECK((t.position_m - camera.back_project(t.position_px, t.position_m.z())).norm() <= 1e-5f * z);
+    // No camera: this frame's measurement only.
+    REQUIRE(plain.tracks.size() == 1);
+    CHECK(!plain.tracks[0].has_position);
+    CHECK(plain.tracks[0].measured == seen);
+    z *= step;
+    zoom /= step;
+  }
+  perch::perch_tracker bad_camera({}, perch::pinhole{0, 500, 320, 240});
+  CHECK(bad_camera.update(frame_of({})).status == perch::tracking_status::invalid_options);
+}
+
 TEST_CASE("measurement_noise: per rule, in the rule's unit, none for an unknown rule") {
   CHECK(perch::measurement_noise("clearance", "mm", 4.0f) == 8.0f);  // 2 px at 4 mm/px
   CHECK(perch::measurement_noise("resolution", "px", 4.0f) == 0.5f);
@@ -379,7 +427,7 @@ perch::image<std::uint8_t> shifted(const perch::image<std::uint8_t>& tree, int d
 
 struct run_record {
   std::vector<std::uint32_t> ids, target;
-  std::vector<float> xs, ys;
+  std::vector<float> xs, ys, zs;
 };
 
 }  // namespace
@@ -388,10 +436,14 @@ TEST_CASE("find_perch + tracker: no allocation per frame after warm-up, and dete
   const auto tree = perch::support::benchmark_tree(640, 480, perch::support::tree_noise::clean);
   std::vector<perch::image<std::uint8_t>> frames;
   for (int f = 0; f < 8; ++f) frames.push_back(shifted(tree.mask, 2 * f, -f));
-  const perch::fixed_scale scale{tree.mm_per_px};
+  // Depth everywhere at the distance where the camera sees the tree's scale: metric tracks.
+  const perch::pinhole camera{640, 640, 319.5f, 239.5f};
+  const perch::image<std::uint16_t> depth(
+      640, 480, static_cast<std::uint16_t>(std::lround(tree.mm_per_px * camera.fx)));
+  const perch::depth_scale scale{depth.view(), camera};
   auto run = [&](bool count_allocations) {
     perch::workspace ws;
-    perch::perch_tracker tracker;
+    perch::perch_tracker tracker({}, camera);
     run_record rec;
     for (std::size_t f = 0; f < frames.size(); ++f) {
       perch::test::allocation_scope scope;
@@ -406,6 +458,8 @@ TEST_CASE("find_perch + tracker: no allocation per frame after warm-up, and dete
         rec.ids.push_back(t.id);
         rec.xs.push_back(t.position_px.x());
         rec.ys.push_back(t.position_px.y());
+        rec.zs.push_back(t.position_m.z());
+        CHECK(t.has_position);
       }
     }
     return rec;
@@ -416,6 +470,7 @@ TEST_CASE("find_perch + tracker: no allocation per frame after warm-up, and dete
   REQUIRE(a.xs.size() == b.xs.size());
   CHECK(std::memcmp(a.xs.data(), b.xs.data(), a.xs.size() * sizeof(float)) == 0);
   CHECK(std::memcmp(a.ys.data(), b.ys.data(), a.ys.size() * sizeof(float)) == 0);
+  CHECK(std::memcmp(a.zs.data(), b.zs.data(), a.zs.size() * sizeof(float)) == 0);
   // The tree offers perches and moves slowly: a target is locked and kept.
   CHECK(a.target.back() != 0);
   CHECK(a.target.back() == a.target[perch::tracker_options{}.confirm_frames + 1]);

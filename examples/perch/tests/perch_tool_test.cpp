@@ -658,13 +658,23 @@ TEST_CASE("track --depth-dir: metric positions from each frame's depth; missing 
     std::snprintf(name, sizeof name, "frame-%04zu.png", i);
     const perch::image<std::uint16_t> written = perch::png::to_gray16(decode(depth / name));
     const double z = *std::max_element(written.data(), written.data() + written.width() * written.height()) / 1000.0;
+    if (i + 1 == lines.size()) {
+      // The end of the approach: the target's depth has kept up with it (smoothed without
+      // moving it with the camera it trailed by some 15 %).
+      REQUIRE(target.is_object());
+      CHECK(member(target, "position_m").items[2].number == doctest::Approx(z).epsilon(0.02));
+    }
     for (const json_value& tr : member(line, "tracks").items) {
       if (member(tr, "hits").number != 1 || member(tr, "misses").number != 0) continue;
-      // A track first seen in this frame: its position is this frame's, back-projected.
+      // A track first seen in this frame: its position is this frame's, back-projected, and
+      // is this frame's measurement.
       const json_value& p = member(tr, "position_m");
       REQUIRE(p.is_array());
       CHECK(p.items[2].number == doctest::Approx(z).epsilon(0.01));
       CHECK(p.items[0].number == doctest::Approx((member(tr, "x").number - cx) * z / fx).epsilon(0.01));
+      const json_value& measured = member(tr, "measured_m");
+      REQUIRE(measured.is_array());
+      CHECK(measured.items[2].number == doctest::Approx(p.items[2].number).epsilon(1e-3));
       ++new_tracks;
     }
   }

@@ -115,14 +115,19 @@ struct pinhole {
     if (!(fx > 0 && fy > 0)) return fail(errc::invalid_parameter, "pinhole.fx/fy");
     return {};
   }
+  /// The camera-frame point (m) of image point `p` at depth `z_m` along the optical axis:
+  /// X = (u − cx)·Z/fx, Y = (v − cy)·Z/fy.
+  [[nodiscard]] point3f back_project(point2f p, float z_m) const noexcept {
+    return point3f((p.x() - cx) * z_m / fx, (p.y() - cy) * z_m / fy, z_m);
+  }
 };
 
 /// Scale from a depth image (millimetres along the optical axis, 0 = invalid) registered to
 /// the mask, and pinhole intrinsics: mm/px = Z / f at the median valid depth of each window's
-/// centreline pixels; the site's position is back-projected: X = (u − cx)·Z/fx,
-/// Y = (v − cy)·Z/fy, in metres. The window's two ends are back-projected at the median depth
-/// of their own quarter of the window (the window's when that quarter has none), so the
-/// branch's axis between them leans toward or away from the camera as the limb does.
+/// centreline pixels; the site's position is back-projected at it (`pinhole::back_project`,
+/// metres). The window's two ends are back-projected at the median depth of their own quarter
+/// of the window (the window's when that quarter has none), so the branch's axis between them
+/// leans toward or away from the camera as the limb does.
 struct depth_scale {
   static constexpr std::string_view name = "depth";
   image_view<const std::uint16_t> depth_mm{};
@@ -181,9 +186,7 @@ struct depth_scale {
   [[nodiscard]] float focal() const noexcept { return 0.5f * (intrinsics.fx + intrinsics.fy); }
   /// The camera-frame point (m) of image pixel `p` at depth `z_mm`.
   [[nodiscard]] point3f back_project(pixel p, float z_mm) const noexcept {
-    const float zm = z_mm / 1000.0f;
-    return point3f((static_cast<float>(p.x) - intrinsics.cx) * zm / intrinsics.fx,
-                   (static_cast<float>(p.y) - intrinsics.cy) * zm / intrinsics.fy, zm);
+    return intrinsics.back_project(to_point(p), z_mm / 1000.0f);
   }
   /// Median of the valid depths at `points` (0 when none); `scratch` ≥ points.size().
   [[nodiscard]] float median_depth(std::span<const pixel> points, pixel offset,

@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <numbers>
+#include <optional>
 #include <span>
 #include <string_view>
 
@@ -178,8 +179,15 @@ struct perch_track {
   /// target is ever doubtful; a planner should not commit to the grasp while it is.
   bool doubtful = false;
   std::uint32_t better_streak = 0;  ///< frames in a row it beat the target by the margin
-  point3f position_m = point3f::Zero();  ///< smoothed camera-frame position (with depth)
+  /// Camera-frame position, metres (x right, y down, z along the optical axis): `position_px`
+  /// back-projected at the track's depth, which follows the camera's motion (see
+  /// `perch_tracker`). Needs the tracker's camera and a frame whose site had depth.
+  point3f position_m = point3f::Zero();
   bool has_position = false;
+  /// This frame's measurement of the matched site, unsmoothed (at the site's own pixel), when
+  /// `measured`: matched in this frame to a site with depth.
+  point3f measured_m = point3f::Zero();
+  bool measured = false;
   bool matched = false;        ///< matched in this frame
 };
 
@@ -216,13 +224,32 @@ struct tracking_result {
 /// and on the angle between their axes; (4) matches greedily, cheapest pair first (ties by
 /// track then candidate order: deterministic); (5) smooths matched tracks, ages the others,
 /// opens tentative tracks on unmatched sites; (6) keeps or changes the target.
+///
+/// With depth (`depth_scale`) and the camera (the constructor's `camera`, the intrinsics of
+/// the input pixels), a track's metric position is its pixel back-projected at its depth z, so
+/// it moves with the camera as the pixel does. Step (1) predicts z with the motion's local
+/// scale s at the track: z/s. A limb facing the camera that looks s times larger is s times
+/// nearer: the homography a plane induces, H = K(R − t·nᵀ/d)K⁻¹ (Hartley & Zisserman,
+/// Multiple View Geometry, 2nd ed., §13.1), scales the picture by d/(d − t_z) = z_prev/z_now
+/// for a plane facing the camera; for a limb that leans, each measurement corrects the rest.
+/// Step (5) blends the predicted z toward the measured one (`measure_gain`). Smoothing the
+/// metric point itself would trail an approach by (1 − g)/g frames of travel and stand still
+/// while a track coasts; a constant-velocity filter on z lags while it learns the rate and
+/// overshoots when the drone brakes to perch; the motion gives this frame's change itself.
+/// Without a motion (the identity) z, like the pixel, trails an approach.
 class perch_tracker {
  public:
   static constexpr std::size_t max_tracks = 24;
   static constexpr std::size_t max_candidates = 32;
 
-  explicit perch_tracker(const tracker_options& options = {}) noexcept
-      : options_(options), options_ok_(static_cast<bool>(options.validate())) {}
+  /// `camera`: the intrinsics of the frames' input pixels, for metric positions (none: tracks
+  /// carry only `measured_m`); one that is not valid makes the options invalid.
+  explicit perch_tracker(const tracker_options& options = {},
+                         const std::optional<pinhole>& camera = std::nullopt) noexcept
+      : options_(options),
+        camera_(camera),
+        options_ok_(static_cast<bool>(options.validate()) &&
+                    (!camera || static_cast<bool>(camera->validate()))) {}
 
   [[nodiscard]] const tracker_options& options() const noexcept { return options_; }
 
@@ -328,16 +355,40 @@ class perch_tracker {
       const point2f d = b - a;
       const float n = d.norm();
       const float window = t.window_px * (n / (2.0f * half));
-      // A motion that sends the track to infinity (a huge or projective one) leaves it where
-      // it was: it ages and is lost rather than carry a position no site can match.
-      if (p.allFinite() && n > 0 && std::isfinite(n) && std::isfinite(window)) {
+      const float scale = motion.scale_at(t.position_px);
+      // A motion that sends the track to infinity or flattens the picture there (a huge or
+      // projective one) leaves it where it was: it ages and is lost rather than carry a
+      // position no site can match.
+      if (p.allFinite() && n > 0 && std::isfinite(n) && std::isfinite(window) && scale > 0 &&
+          std::isfinite(scale)) {
         t.position_px = p;
         t.axis = d / n;
         t.window_px = window;
         t.heading_deg = heading_deg(t.axis);
+        place(t, t.position_m.z() / scale);
       }
       t.matched = false;
+      t.measured = false;
     }
+  }
+
+  /// Puts track `t`'s metric position at its pixel, `z_m` metres deep (with the camera, once
+  /// a frame gave the track depth).
+  void place(perch_track& t, float z_m) const noexcept {
+    if (camera_ && t.has_position) t.position_m = camera_->back_project(t.position_px, z_m);
+  }
+
+  /// Takes candidate `c`'s depth into track `t` (blended into the prediction, or as it is
+  /// when the track had none) and places `t` at its pixel.
+  void measure_depth(perch_track& t, const candidate& c) const noexcept {
+    t.measured = c.has_position;
+    float z = t.position_m.z();
+    if (c.has_position) {
+      t.measured_m = c.position_m;
+      z = t.has_position ? blend(z, c.position_m.z(), options_.measure_gain) : c.position_m.z();
+      t.has_position = camera_.has_value();
+    }
+    place(t, z);
   }
 
   /// A window with every measure the tracker smooths finite: anything else (a result not from
@@ -446,12 +497,7 @@ class perch_tracker {
     t.slope_deg = blend(t.slope_deg, c.slope_deg, options_.measure_gain);
     t.diameter_mm = blend(t.diameter_mm, c.diameter_mm, options_.measure_gain);
     if (c.feasible) t.penalty = blend(t.penalty, c.penalty, options_.measure_gain);
-    if (c.has_position) {
-      t.position_m = t.has_position ? point3f(t.position_m + options_.measure_gain *
-                                                                 (c.position_m - t.position_m))
-                                    : c.position_m;
-      t.has_position = true;
-    }
+    measure_depth(t, c);
     t.feasible = c.feasible;
     t.failed_constraint = c.constraint;
     t.failed_unit = c.unit;
@@ -476,8 +522,7 @@ class perch_tracker {
     t.slope_deg = c.slope_deg;
     t.diameter_mm = c.diameter_mm;
     t.penalty = c.penalty;
-    t.position_m = c.position_m;
-    t.has_position = c.has_position;
+    measure_depth(t, c);
     t.hits = t.streak = 1;
     t.matched = true;
     t.state = options_.confirm_frames <= 1 ? track_state::confirmed : track_state::tentative;
@@ -661,6 +706,7 @@ class perch_tracker {
   }
 
   tracker_options options_;
+  std::optional<pinhole> camera_;
   bool options_ok_ = false;
   std::array<perch_track, max_tracks> tracks_{};
   std::size_t count_ = 0;
