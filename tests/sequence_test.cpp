@@ -79,6 +79,12 @@ TEST_CASE("a sequence's depth image: the tree at the distance its scale implies,
     REQUIRE(depth.width() == a.width());
     REQUIRE(depth.height() == a.height());
     const float z = frame.tree.mm_per_px * camera.fx;  // a pinhole sees Z / f mm per pixel
+    CHECK(a.distance_mm(frame) == doctest::Approx(z));
+    // A pixel's true point: on the tree's plane, seen back at that pixel.
+    const perch::point2f p(100.5f, 40.0f);
+    const perch::point3f q = a.point_m(frame, p);
+    CHECK(q.z() == doctest::Approx(1e-3f * z));
+    CHECK((camera.project(q) - p).norm() < 1e-3f);
     std::size_t tree = 0, wrong = 0;
     for (int y = 0; y < depth.height(); ++y)
       for (int x = 0; x < depth.width(); ++x) {

@@ -44,13 +44,6 @@ std::string list_pngs(const std::filesystem::path& dir, std::vector<std::filesys
   return {};
 }
 
-float percentile(std::vector<float> values, double q) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  const auto i = static_cast<std::size_t>(std::ceil(q * static_cast<double>(values.size())));
-  return values[std::min(values.size() - 1, i == 0 ? 0 : i - 1)];
-}
-
 /// "K/N" with 1 <= K <= N. Returns an error message.
 std::string parse_shard(std::string_view text, shard_spec& shard) {
   const std::size_t slash = text.find('/');

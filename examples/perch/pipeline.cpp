@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSL-1.0
 // The shared part of the perch tool: options, loading, and `analyse` (find_perch + outputs).
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <type_traits>
@@ -161,6 +163,13 @@ std::string load_depth(const std::filesystem::path& path, image<std::uint16_t>& 
   if (!png) return "cannot read depth " + path.string() + ": " + png.error().message;
   out = png::to_gray16(*png);
   return {};
+}
+
+float percentile(std::vector<float> values, double q) {
+  if (values.empty()) return 0;
+  std::sort(values.begin(), values.end());
+  const auto i = static_cast<std::size_t>(std::ceil(q * static_cast<double>(values.size())));
+  return values[std::min(values.size() - 1, i == 0 ? 0 : i - 1)];
 }
 
 perch_options perch_options_of(const run_config& config) {

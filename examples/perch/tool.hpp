@@ -138,6 +138,34 @@ void add_pipeline_options(support::arg_parser& args, depth_option depth);
 /// The `perch_options` of `config` (downscale, holes, roll, top-k; no clock).
 [[nodiscard]] perch_options perch_options_of(const run_config& config);
 
+/// `find_perch` on `mask` with `config`'s options and scale.
+template <class Platform>
+[[nodiscard]] result<perch_result> find_with(const image<std::uint8_t>& mask, const run_config& config,
+                                             const Platform& platform, workspace& ws) {
+  return visit_scale(config.scale, [&](const auto& scale) {
+    return find_perch(mask.view(), platform, scale, ws, perch_options_of(config));
+  });
+}
+
+/// `find_perch` on a frame with its depth when it has one (`depth`: `config` with the frame's
+/// depth image as its scale), else with `config`'s scale. Depth with no valid sample on the
+/// tree is dropped for `config`'s scale, and `depth_dropped` says so: a frame is analysed with
+/// what it has (perch track --depth-dir, perch eval --sequences --depth).
+template <class Platform>
+[[nodiscard]] result<perch_result> find_in_frame(const image<std::uint8_t>& mask, const run_config& config,
+                                                 const run_config* depth, const Platform& platform,
+                                                 workspace& ws, bool& depth_dropped) {
+  depth_dropped = false;
+  if (depth == nullptr) return find_with(mask, config, platform, ws);
+  auto found = find_with(mask, *depth, platform, ws);
+  if (found || found.error().code != errc::no_valid_depth) return found;
+  depth_dropped = true;
+  return find_with(mask, config, platform, ws);
+}
+
+/// The value below which a fraction `q` ∈ [0, 1] of `values` lie (nearest rank); 0 when empty.
+[[nodiscard]] float percentile(std::vector<float> values, double q);
+
 /// How a PNG becomes a tree mask: by default any non-zero colour sample is tree; `threshold`:
 /// tree where the 8-bit gray level is above it; `invert`: the other pixels are tree.
 struct mask_reading {

@@ -272,15 +272,6 @@ std::string frame_json(const frame_report& f) {
   return std::move(json).take();
 }
 
-/// `find_perch` on `mask` with `config`'s options and scale.
-template <class Platform>
-result<perch_result> find_with(const image<std::uint8_t>& mask, const run_config& config, const Platform& platform,
-                               workspace& ws) {
-  return visit_scale(config.scale, [&](const auto& scale) {
-    return find_perch(mask.view(), platform, scale, ws, perch_options_of(config));
-  });
-}
-
 /// With --depth-dir: `config` with the frame's depth image (DEPTH_DIR/NAME of `file`) as its
 /// scale, when that image can be read and has the mask's size; `report.depth` says which.
 std::optional<run_config> with_frame_depth(const run_config& config, const std::filesystem::path& file,
@@ -312,19 +303,6 @@ std::optional<run_config> with_frame_depth(const run_config& config, const std::
   return out;
 }
 
-/// `find_perch` with the frame's depth when it has one (`depth`), else with `config`'s scale;
-/// depth with no valid sample on the tree is dropped for that scale (`report.depth`).
-template <class Platform>
-result<perch_result> find_in_frame(const image<std::uint8_t>& mask, const run_config& config,
-                                   const run_config* depth, const Platform& platform, workspace& ws,
-                                   frame_report& report) {
-  if (depth == nullptr) return find_with(mask, config, platform, ws);
-  auto found = find_with(mask, *depth, platform, ws);
-  if (found || found.error().code != errc::no_valid_depth) return found;
-  report.depth = "no_valid_depth";
-  return find_with(mask, config, platform, ws);
-}
-
 /// `find_perch` with the tool's options (and the frame's depth when `depth` is not null), then
 /// `tracker.update`; then `on_tracked(found or null, the platform's geometry, the tracking)`
 /// while the workspace still holds the analysis.
@@ -334,8 +312,10 @@ tracking_result analyse_and_track(const image<std::uint8_t>& mask, const run_con
                                   frame_report& report, OnTracked&& on_tracked) {
   return visit_platform(config.platform, [&](const auto& platform) {
     const std::int64_t t0 = steady_ns();
-    auto found = find_in_frame(mask, config, depth, platform, ws, report);
+    bool depth_dropped = false;
+    auto found = find_in_frame(mask, config, depth, platform, ws, depth_dropped);
     const std::int64_t t1 = steady_ns();
+    if (depth_dropped) report.depth = "no_valid_depth";
     if (!found) report.error = describe(found.error());
     if (found) {
       // The estimator sees every analysed frame, so its previous keypoints are the last frame's.

@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: BSL-1.0
 // perch eval --sequences N: the tracker on synthetic approach sequences (support/sequence.hpp),
 // each frame's target judged by the frame's truth: on a feasible stretch, switches the truth
-// does not call for, jitter of the target against the tree, frames to lock.
+// does not call for, jitter of the target against the tree, frames to lock; with --depth, the
+// error of its metric position.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +58,52 @@ struct miss_breakdown {
   }
 };
 
+/// One kind of metric point of the target (`position_m` or `measured_m`) against the truth, one
+/// entry per frame that had it.
+struct metric_errors {
+  std::vector<float> error_mm;        ///< 3-D distance from the truth's point
+  std::vector<float> error_percent;   ///< that, per cent of the truth point's distance from the camera
+  std::vector<float> z_error_mm;      ///< depth alone, signed: the point's z − the truth's
+
+  void add(const point3f& got_m, const point3f& truth_m) {
+    const point3f error_m = got_m - truth_m;
+    error_mm.push_back(1e3f * error_m.norm());
+    error_percent.push_back(100.0f * error_m.norm() / truth_m.norm());
+    z_error_mm.push_back(1e3f * error_m.z());
+  }
+  void add(const metric_errors& o) {
+    error_mm.insert(error_mm.end(), o.error_mm.begin(), o.error_mm.end());
+    error_percent.insert(error_percent.end(), o.error_percent.begin(), o.error_percent.end());
+    z_error_mm.insert(z_error_mm.end(), o.z_error_mm.begin(), o.z_error_mm.end());
+  }
+};
+
+/// What `metric_errors` sum up to.
+struct metric_summary {
+  std::size_t frames = 0;
+  double rms_mm = 0, p95_mm = 0, rms_percent = 0, p95_percent = 0, z_mean_mm = 0, z_rms_mm = 0;
+};
+
+double rms(const std::vector<float>& v) {
+  double sq = 0;
+  for (const float x : v) sq += static_cast<double>(x) * static_cast<double>(x);
+  return v.empty() ? 0.0 : std::sqrt(sq / static_cast<double>(v.size()));
+}
+
+double mean(const std::vector<float>& v) {
+  return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+}
+
+metric_summary summarise(const metric_errors& e) {
+  return {.frames = e.error_mm.size(),
+          .rms_mm = rms(e.error_mm),
+          .p95_mm = static_cast<double>(percentile(e.error_mm, 0.95)),
+          .rms_percent = rms(e.error_percent),
+          .p95_percent = static_cast<double>(percentile(e.error_percent, 0.95)),
+          .z_mean_mm = mean(e.z_error_mm),
+          .z_rms_mm = rms(e.z_error_mm)};
+}
+
 /// What one sequence scored.
 struct sequence_score {
   int index = 0;
@@ -71,6 +119,9 @@ struct sequence_score {
   double jitter_sq_sum = 0;   ///< Σ (deviation / local diameter)²
   int jitter_samples = 0;
   miss_breakdown misses;
+  metric_errors position;     ///< with --depth: the target's `position_m` (tracked, smoothed)
+  metric_errors measured;     ///< and its `measured_m` (the frame's own)
+  int frames_without_depth = 0;  ///< with --depth: frames whose depth had no sample on the tree
   float tracker_ms = 0;       ///< tracker time over the sequence (motion estimate included)
   std::string error;
 };
@@ -163,6 +214,18 @@ void judge_target(const st::sequence_frame& frame, const st::perch_truth& truth,
   run.diameter_world_px.push_back(at.diameter_px / frame.scale);
 }
 
+/// With --depth: the target's metric points against the truth's point of the same pixel, the
+/// truth limb centreline point nearest it on the tree's plane at its true distance (the pixel
+/// of `measured_m` is its projection: the site's own, not the track's smoothed one).
+void judge_metric(const st::approach_sequence& seq, const st::sequence_frame& frame, const perch_track& t,
+                  sequence_score& score) {
+  const auto truth_m = [&](point2f p) {
+    return seq.point_m(frame, st::locate(frame.tree, p, st::limb_set::without_twigs).closest);
+  };
+  if (t.has_position) score.position.add(t.position_m, truth_m(t.position_px));
+  if (t.measured) score.measured.add(t.measured_m, truth_m(seq.camera().project(t.measured_m)));
+}
+
 /// A switch away from a target is called for when the old target (moved with the camera) left
 /// the view or its stretch.
 void judge_switch(const st::sequence_frame& frame, const st::perch_truth& truth,
@@ -183,14 +246,34 @@ struct eval_setup {
   st::tree_family family = st::tree_family::arcs;
   motion_source source = motion_source::truth;
   tracker_options tracker;
+  bool depth = false;  ///< --depth: each frame analysed with its depth, the tracker given the camera
 };
+
+/// A frame's analysis options: its true roll and scale (as `perch track --roll-csv
+/// --scale-csv` gives them from the sequence's camera.csv).
+run_config frame_config(const st::sequence_frame& frame) {
+  run_config config;
+  config.roll_deg = frame.roll_deg;
+  config.scale.kind = scale_kind::fixed;
+  config.scale.mm_per_px = frame.tree.mm_per_px;
+  return config;
+}
+
+/// `config` with the frame's depth image and the sequence's camera as its scale: what `perch
+/// synth --sequence --depth` writes and `perch track --depth-dir` reads, kept in memory.
+run_config with_depth(run_config config, const st::approach_sequence& seq, const st::sequence_frame& frame) {
+  config.scale.kind = scale_kind::depth;
+  config.scale.depth_mm = seq.depth_mm(frame);
+  config.scale.intrinsics = seq.camera();
+  return config;
+}
 
 sequence_score score_sequence(int index, const eval_setup& setup, workspace& ws) {
   sequence_score score;
   score.index = index;
   const st::approach_sequence seq = st::evaluation_sequence(index, setup.sequence, setup.family);
   const motion_source source = setup.source;
-  perch_tracker tracker(setup.tracker);
+  perch_tracker tracker(setup.tracker, setup.depth ? std::optional(seq.camera()) : std::nullopt);
   motion_estimator estimator;
   target_run run;
   point2f last_target = point2f::Zero();
@@ -200,10 +283,13 @@ sequence_score score_sequence(int index, const eval_setup& setup, workspace& ws)
   for (int f = 0; f < seq.frames(); ++f) {
     const st::sequence_frame frame = seq.frame(f);
     const st::perch_truth truth(frame.tree, st::spec_for(frame));
-    perch_options o;
-    o.camera = attitude{frame.roll_deg};
-    const auto found = find_perch(frame.mask.view(), tendon_claw{}, fixed_scale{frame.tree.mm_per_px},
-                                  ws, o);
+    const run_config config = frame_config(frame);
+    const std::optional<run_config> depth =
+        setup.depth ? std::optional(with_depth(config, seq, frame)) : std::nullopt;
+    bool depth_dropped = false;
+    const auto found =
+        find_in_frame(frame.mask, config, depth ? &*depth : nullptr, tendon_claw{}, ws, depth_dropped);
+    score.frames_without_depth += depth_dropped ? 1 : 0;
     if (!found) {
       score.error = describe(found.error());
       return score;
@@ -228,6 +314,7 @@ sequence_score score_sequence(int index, const eval_setup& setup, workspace& ws)
     had_target = r.target != nullptr;
     if (!had_target) continue;
     judge_target(frame, truth, r, f, first_feasible, run, score);
+    if (setup.depth) judge_metric(seq, frame, *r.target, score);
     last_target = r.target->position_px;
     ever_targeted = true;
   }
@@ -240,6 +327,8 @@ struct totals {
   int sequences = 0, frames = 0, feasible = 0, on = 0, raw_on = 0, switches = 0, unwarranted = 0;
   int by_reason[reason_count] = {};
   miss_breakdown misses;
+  metric_errors position, measured;
+  int frames_without_depth = 0;
   double jitter_sq = 0;
   int jitter_n = 0;
   std::vector<int> locks;  ///< per sequence with a feasible view; -1: never locked
@@ -263,6 +352,9 @@ totals add_up(const std::vector<sequence_score>& scores) {
     t.unwarranted += s.unwarranted;
     for (int k = 0; k < reason_count; ++k) t.by_reason[k] += s.by_reason[k];
     t.misses.add(s.misses);
+    t.position.add(s.position);
+    t.measured.add(s.measured);
+    t.frames_without_depth += s.frames_without_depth;
     t.jitter_sq += s.jitter_sq_sum;
     t.jitter_n += s.jitter_samples;
     t.tracker_ms += static_cast<double>(s.tracker_ms);
@@ -295,21 +387,44 @@ void print_breakdown(const totals& t) {
   std::printf("\n  frames with a doubtful target: %d\n", m.doubtful_frames);
 }
 
-void print_scores(const std::vector<sequence_score>& scores, const totals& t, bool rows) {
+/// With --depth: the target's metric error, tracked and the frame's own.
+void print_metric(const totals& t) {
+  std::printf("metric target (with depth), against the truth's point (the limb centreline point nearest the\n"
+              "  target's pixel, at the tree's true distance); %% of the distance from the camera:\n");
+  for (const auto& [name, errors] : {std::pair{"position_m (tracked)    ", &t.position},
+                                     std::pair{"measured_m (frame's own)", &t.measured}}) {
+    const metric_summary m = summarise(*errors);
+    std::printf("  %s %zu frames: 3-D RMS %.2f mm, 95th percentile %.2f mm (RMS %.3f %%, 95th %.3f %%); "
+                "z mean %+.2f mm, RMS %.2f mm\n",
+                name, m.frames, m.rms_mm, m.p95_mm, m.rms_percent, m.p95_percent, m.z_mean_mm, m.z_rms_mm);
+  }
+  if (t.frames_without_depth > 0)
+    std::printf("  frames whose depth had no sample on the tree (analysed with the true scale): %d\n",
+                t.frames_without_depth);
+}
+
+void print_scores(const std::vector<sequence_score>& scores, const totals& t, bool rows, bool depth) {
   if (rows) {
-    std::printf("%4s %6s %8s %9s %9s %8s %8s %7s %8s %7s %6s %8s\n", "seq", "frames", "feasible", "on (%)",
+    std::printf("%4s %6s %8s %9s %9s %8s %8s %7s %8s %7s %6s %8s", "seq", "frames", "feasible", "on (%)",
                 "raw (%)", "switches", "unwarr.", "lock", "jitter/d", "no tgt", "wrong", "doubtful");
+    if (depth) std::printf(" %8s %8s %9s", "pos (mm)", "z (mm)", "meas (mm)");
+    std::printf("\n");
     for (const sequence_score& s : scores) {
       if (!s.error.empty()) {
         std::printf("%4d error: %s\n", s.index, s.error.c_str());
         continue;
       }
-      std::printf("%4d %6d %8d %9.1f %9.1f %8d %8d %7d %8.3f %7d %6d %8d\n", s.index, s.frames,
+      std::printf("%4d %6d %8d %9.1f %9.1f %8d %8d %7d %8.3f %7d %6d %8d", s.index, s.frames,
                   s.feasible_frames, percent(s.on_feasible, s.feasible_frames),
                   percent(s.raw_on_feasible, s.feasible_frames), s.switches, s.unwarranted, s.lock_frames,
                   s.jitter_samples ? std::sqrt(s.jitter_sq_sum / s.jitter_samples) : 0.0,
                   s.misses.unlocked + s.misses.dropped, s.misses.wrong_in_view + s.misses.wrong_no_view,
                   s.misses.doubtful_frames);
+      // RMS of the target's 3-D error and of its depth error, tracked; 3-D of the frame's own.
+      if (depth)
+        std::printf(" %8.2f %8.2f %9.2f", rms(s.position.error_mm), rms(s.position.z_error_mm),
+                    rms(s.measured.error_mm));
+      std::printf("\n");
     }
     std::printf("\n");
   }
@@ -334,13 +449,28 @@ void print_scores(const std::vector<sequence_score>& scores, const totals& t, bo
               "(never locked %d)\n",
               locked.empty() ? -1 : locked[locked.size() / 2], locked.empty() ? -1 : locked.back(), within5,
               t.locks.size(), never);
+  if (depth) print_metric(t);
   std::printf("tracker time: %.4f ms per frame (beyond find_perch)\n",
               t.frames ? t.tracker_ms / t.frames : 0.0);
   if (t.errors) std::printf("errors: %d sequences\n", t.errors);
 }
 
+/// `"KEY": {frames, rms_mm, p95_mm, rms_percent, p95_percent, z_mean_mm, z_rms_mm}`.
+void write_metric(st::json_writer& json, std::string_view key, const metric_errors& errors) {
+  const metric_summary m = summarise(errors);
+  json.key(key).begin_object()
+      .key("frames").value(static_cast<std::int64_t>(m.frames))
+      .key("rms_mm").value(m.rms_mm)
+      .key("p95_mm").value(m.p95_mm)
+      .key("rms_percent").value(m.rms_percent)
+      .key("p95_percent").value(m.p95_percent)
+      .key("z_mean_mm").value(m.z_mean_mm)
+      .key("z_rms_mm").value(m.z_rms_mm)
+      .end_object();
+}
+
 std::string json_of(const totals& t, int frames_per_sequence, std::string_view motion,
-                    st::tree_family family) {
+                    st::tree_family family, bool depth) {
   st::json_writer json;
   std::vector<int> locked;
   for (const int l : t.locks)
@@ -368,8 +498,14 @@ std::string json_of(const totals& t, int frames_per_sequence, std::string_view m
       .key("wrong_target_no_perch_frames").value(static_cast<std::int64_t>(t.misses.wrong_no_view))
       .key("confident_wrong_target_frames")
       .value(static_cast<std::int64_t>(t.misses.wrong_in_view + t.misses.wrong_no_view - t.misses.wrong_doubtful))
-      .key("doubtful_target_frames").value(static_cast<std::int64_t>(t.misses.doubtful_frames))
-      .end_object();
+      .key("doubtful_target_frames").value(static_cast<std::int64_t>(t.misses.doubtful_frames));
+  if (depth) {
+    json.key("metric").begin_object();
+    write_metric(json, "position_m", t.position);
+    write_metric(json, "measured_m", t.measured);
+    json.key("frames_without_depth").value(static_cast<std::int64_t>(t.frames_without_depth)).end_object();
+  }
+  json.end_object();
   return std::move(json).take();
 }
 
@@ -418,6 +554,14 @@ constexpr const char* eval_epilog =
       "none are broken down into (a) no target and (b) a target on no feasible stretch (the\n"
       "worst case: a confident wrong target), by how the target was matched and by the truth's\n"
       "verdict at its spot.\n"
+      "With --depth, each frame is analysed with the depth image perch synth --sequence --depth\n"
+      "writes for it (depth_scale with the sequence's camera) and the tracker gets that camera;\n"
+      "every frame whose target has position_m (and, apart, measured_m: the frame's own point)\n"
+      "is scored against the truth's point: the limb centreline point nearest the target's pixel\n"
+      "(for measured_m, its projection) back-projected at the tree's true distance. Reported: the\n"
+      "RMS and 95th percentile of the 3-D error, in mm and in % of the truth point's distance\n"
+      "from the camera, and the depth (z) error's mean and RMS; --rows adds each sequence's RMS\n"
+      "3-D and z error of position_m, pos (mm) and z (mm), and the RMS 3-D error of measured_m.\n"
       "Example: perch eval --sequences 40 --frames 90 --family both --rows";
 
 }  // namespace
@@ -443,6 +587,8 @@ int run_track_eval(int argc, const char* const* argv) {
   args.add_option("jobs", "N", "worker threads; 0 = all cores", "0", 'j');
   args.add_option("json", "OUT.json", "also write the totals as JSON (an array with --family both)");
   args.add_flag("rows", "one row per sequence");
+  args.add_flag("depth", "analyse each frame with its depth and give the tracker the camera;\n"
+                         "score the target's metric position (position_m, measured_m)");
   args.add_flag("quiet", "no progress bar");
   args.set_epilog(eval_epilog);
   int exit = exit_ok;
@@ -475,6 +621,7 @@ int run_track_eval(int argc, const char* const* argv) {
   setup.sequence.frames = frames.value;
   setup.tracker.doubtful_frames = static_cast<std::uint32_t>(doubtful.value);
   setup.tracker.infeasible_frames = static_cast<std::uint32_t>(infeasible.value);
+  setup.depth = args.flag("depth");
   std::vector<std::string> objects;
   int errors = 0;
   for (const st::tree_family family : families) {
@@ -482,11 +629,12 @@ int run_track_eval(int argc, const char* const* argv) {
     const std::vector<sequence_score> scores =
         score_family(static_cast<std::size_t>(n.value), static_cast<unsigned>(jobs.value), setup, args.flag("quiet"));
     const totals t = add_up(scores);
-    std::printf("perch eval --sequences: %d sequences of %d frames, %s family, motion %s\n\n", n.value,
-                frames.value, std::string(st::to_string(family)).c_str(), motion.c_str());
-    print_scores(scores, t, args.flag("rows"));
+    std::printf("perch eval --sequences: %d sequences of %d frames, %s family, motion %s%s\n\n", n.value,
+                frames.value, std::string(st::to_string(family)).c_str(), motion.c_str(),
+                setup.depth ? ", with depth" : "");
+    print_scores(scores, t, args.flag("rows"), setup.depth);
     std::printf("\n");
-    objects.push_back(json_of(t, frames.value, motion, family));
+    objects.push_back(json_of(t, frames.value, motion, family, setup.depth));
     errors += t.errors;
   }
   if (args.has("json"))

@@ -227,6 +227,20 @@ TEST_CASE("windows: depth gives each window its own scale and a 3-D position") {
   CHECK(w.position_m.z() == doctest::Approx(2.0f));
   CHECK(w.position_m.x() == doctest::Approx((static_cast<float>(w.centre.x) - 350.0f) * 2.0f / 1000.0f));
   CHECK(w.position_m.y() == doctest::Approx(0.0f));
+  // The window's pixel comes back from its 3-D position.
+  const perch::point2f seen = scale.intrinsics.project(w.position_m);
+  CHECK(seen.x() == doctest::Approx(static_cast<float>(w.centre.x)));
+  CHECK(seen.y() == doctest::Approx(static_cast<float>(w.centre.y)));
+}
+
+TEST_CASE("pinhole: project undoes back_project at any depth") {
+  const perch::pinhole camera{900.0f, 950.0f, 479.5f, 359.5f};
+  for (const perch::point2f& p : {perch::point2f(0, 0), perch::point2f(959, 719), perch::point2f(123.25f, 600.5f)})
+    for (const float z : {0.4f, 2.0f, 9.5f}) {
+      const perch::point2f back = camera.project(camera.back_project(p, z));
+      CHECK(back.x() == doctest::Approx(p.x()));
+      CHECK(back.y() == doctest::Approx(p.y()));
+    }
 }
 
 TEST_CASE("measures: cross-section diameters are unbiased at every angle; 2d - 1 reads low") {

@@ -604,6 +604,42 @@ TEST_CASE("synth --sequence, track and eval --sequences: frames, one JSON line p
   CHECK(e.out.find("target on a feasible stretch") != std::string::npos);
 }
 
+TEST_CASE("eval --sequences --depth: the target's metric error against the truth; without --depth none of it") {
+  const fs::path dir = scratch("track_eval_depth");
+  const fs::path with_json = dir / "with.json", without_json = dir / "without.json";
+  const std::vector<std::string> eval = {"eval", "--sequences", "2", "--frames", "30", "--rows", "--quiet"};
+  std::vector<std::string> with = eval, without = eval;
+  with.insert(with.end(), {"--depth", "--json", with_json.string()});
+  without.insert(without.end(), {"--json", without_json.string()});
+  const run_result w = run_perch(with, dir);
+  REQUIRE_MESSAGE(w.exit_code == 0, w.err);
+  CHECK(w.out.find("with depth") != std::string::npos);
+  CHECK(w.out.find("pos (mm)") != std::string::npos);  // the rows' metric columns
+  CHECK(w.out.find("position_m (tracked)") != std::string::npos);
+  const json_value metric = member(parse(read_file(with_json)), "metric");
+  CHECK(member(metric, "frames_without_depth").number == 0);
+  for (const char* kind : {"position_m", "measured_m"}) {
+    CAPTURE(kind);
+    const json_value& m = member(metric, kind);
+    // Depth ignored, no target would have a metric point: nothing scored.
+    CHECK(member(m, "frames").number >= 20);
+    for (const char* key : {"rms_mm", "p95_mm", "rms_percent", "p95_percent", "z_mean_mm", "z_rms_mm"})
+      CHECK_MESSAGE(std::isfinite(member(m, key).number), key);
+    // The synthetic depth is exact to its millimetre rounding, so the point is off the truth's by
+    // about the target pixel's distance from the true centreline: millimetres at metres away.
+    CHECK(member(m, "rms_mm").number > 0);
+    CHECK(member(m, "rms_percent").number < 0.5);
+    CHECK(member(m, "p95_percent").number < 1.0);
+    CHECK(member(m, "z_rms_mm").number < 2.0);
+    CHECK(std::abs(member(m, "z_mean_mm").number) <= member(m, "z_rms_mm").number + 1e-9);
+  }
+  const run_result wo = run_perch(without, dir);
+  REQUIRE_MESSAGE(wo.exit_code == 0, wo.err);
+  CHECK(wo.out.find("depth") == std::string::npos);
+  CHECK(wo.out.find("pos (mm)") == std::string::npos);
+  CHECK(parse(read_file(without_json)).find("metric") == nullptr);
+}
+
 TEST_CASE("track --depth-dir: metric positions from each frame's depth; missing or wrong-size depth flagged") {
   const fs::path dir = scratch("track_depth");
   const fs::path frames = dir / "frames", depth = frames / "depth";

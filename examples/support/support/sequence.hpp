@@ -123,12 +123,22 @@ class approach_sequence {
     return {f, f, 0.5f * static_cast<float>(width_ - 1), 0.5f * static_cast<float>(height_ - 1)};
   }
 
+  /// The true distance of `frame`'s tree along the optical axis, millimetres: the tree is a
+  /// plane facing the camera where `camera()` sees `frame.tree.mm_per_px` (Z = mm/px · f).
+  [[nodiscard]] float distance_mm(const sequence_frame& frame) const noexcept {
+    return frame.tree.mm_per_px * camera().fx;
+  }
+
+  /// The true camera-frame point, metres, of `frame`'s pixel `p` on the tree's plane.
+  [[nodiscard]] point3f point_m(const sequence_frame& frame, point2f p) const noexcept {
+    return camera().back_project(p, 1e-3f * distance_mm(frame));
+  }
+
   /// What a depth camera registered to `frame`'s mask would see, millimetres along the optical
-  /// axis: the tree (its clean render, `frame.tree.mask`) on a plane facing the camera at the
-  /// distance where `camera()` sees `frame.tree.mm_per_px` (Z = mm/px · f), 0 (no return)
-  /// elsewhere.
+  /// axis: the tree (its clean render, `frame.tree.mask`) at `distance_mm`, rounded to the
+  /// millimetre, 0 (no return) elsewhere.
   [[nodiscard]] image<std::uint16_t> depth_mm(const sequence_frame& frame) const {
-    const float z = std::min(frame.tree.mm_per_px * camera().fx, 65535.0f);
+    const float z = std::min(distance_mm(frame), 65535.0f);
     const auto value = static_cast<std::uint16_t>(std::lround(z));
     image<std::uint16_t> out(width_, height_, 0);
     for (int y = 0; y < height_; ++y)

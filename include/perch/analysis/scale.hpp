@@ -120,6 +120,11 @@ struct pinhole {
   [[nodiscard]] point3f back_project(point2f p, float z_m) const noexcept {
     return point3f((p.x() - cx) * z_m / fx, (p.y() - cy) * z_m / fy, z_m);
   }
+  /// The image point of camera-frame point `q` (its z > 0): `back_project`'s inverse,
+  /// u = cx + fx·X/Z, v = cy + fy·Y/Z.
+  [[nodiscard]] point2f project(const point3f& q) const noexcept {
+    return point2f(cx + fx * q.x() / q.z(), cy + fy * q.y() / q.z());
+  }
 };
 
 /// Scale from a depth image (millimetres along the optical axis, 0 = invalid) registered to
