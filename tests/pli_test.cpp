@@ -858,3 +858,32 @@ TEST_CASE("find_perch: no site's window spans a 30 degree kink") {
     CHECK(nearest > 10.0f);
   }
 }
+
+TEST_CASE("find_perch: no site's window holds a second limb fused along its limb") {
+  // The T tree's limb (31 px = 62 mm), and a 20 px (40 mm) limb lying along its top for 60 px,
+  // the two outlines 2 px into each other: one band 49 px wide there, 98 mm, still inside the
+  // claw's range, and the skeleton runs through it as one limb. The claw closing there would
+  // close on both limbs: no window reaches into the fused stretch (x 450..510).
+  image<std::uint8_t> mask(900, 480);
+  capsule(mask, {160, 520}, {160, 120}, 45);
+  capsule(mask, {160, 260}, {840, 260}, 15.5f);
+  capsule(mask, {450, 236.5f}, {510, 236.5f}, 10.0f);
+  perch::workspace ws;
+  perch::perch_options options;
+  options.ranking.top_k = 50;
+  auto found = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws,
+                                 options);
+  REQUIRE(found);
+  CHECK(rejected_by(*found, "one_limb") > 0);
+  REQUIRE(found->outcome == perch_outcome::found);
+  bool before = false, after = false;
+  for (const perch::perch_site& site : found->sites) {
+    const auto points = window_points(*found, site.window);
+    CAPTURE(site.window.centre.x);
+    for (const perch::point2f& p : points) CHECK((p.x() < 450.0f || p.x() > 510.0f));
+    before = before || site.window.centre.x < 450;
+    after = after || site.window.centre.x > 510;
+  }
+  CHECK(before);  // the limb either side of the fused stretch is still a perch
+  CHECK(after);
+}

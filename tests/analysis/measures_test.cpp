@@ -192,6 +192,20 @@ TEST_CASE("windows: one drone width long, by stride, never past the branch end")
   CHECK((*out)[0].diameter_mean_mm > 19.5f);
   CHECK((*out)[0].diameter_low_mm == doctest::Approx(18.0f));
 
+  // The radius over the window: its largest and its lower tercile. A uniform limb reads both
+  // alike; a swelling over points 40..55 (another limb merging in) lifts the largest only.
+  CHECK((*out)[0].radius_max_px == doctest::Approx(5.0f));
+  CHECK((*out)[0].radius_low_px == doctest::Approx(5.0f));
+  std::vector<float> swollen = radius;
+  for (std::size_t i = 40; i <= 55; ++i)
+    swollen[i] = 7.0f - 0.25f * static_cast<float>(i > 47 ? i - 47 : 47 - i);
+  const perch::branch_geometry merged{line, swollen, 3, 1, perch::origin_end::front};
+  out->clear();
+  REQUIRE(perch::measure_windows(merged, perch::fixed_scale{2.0f}, 2.0f, scratch, *out));
+  CHECK((*out)[0].radius_max_px == doctest::Approx(7.0f));  // at point 47
+  CHECK((*out)[0].radius_low_px == doctest::Approx(5.0f));
+  CHECK(out->back().radius_max_px == doctest::Approx(5.0f));  // points 210..300: clear of it
+
   // Too short for one window: none. Capacity: a status, never silent truncation.
   out->clear();
   REQUIRE(perch::measure_windows(branch, perch::fixed_scale{0.5f}, 0.5f, scratch, *out));

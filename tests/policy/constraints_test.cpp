@@ -262,3 +262,33 @@ TEST_CASE("constraints: clearance in mm from other limbs' surfaces over the wind
   CHECK(!perch::clutter{.margin_mm = -1.0f}.validate());
   CHECK(perch::clutter{.margin_mm = 20.0f, .max_share = 0.0f}(m, bare) == 0.0f);  // nothing there
 }
+
+TEST_CASE("constraints: one_limb allows a limb's taper and an outline pixel, not a swelling") {
+  const perch::one_limb one{};
+  CHECK(one.name == "one_limb");
+  CHECK(one.unit == "px");
+  perch::window_measures m = window(0, 40.0f);
+  m.radius_low_px = 10.0f;  // allowed: 1 px + 10 % of 10 px = 2 px above the lower tercile
+  m.radius_max_px = 12.0f;
+  CHECK(one(m) == 0.0f);
+  m.radius_max_px = 15.5f;  // another limb lying along it: 3.5 px past what one limb allows
+  CHECK(one(m) == doctest::Approx(3.5f));
+  m.radius_low_px = 40.0f;  // a thick limb tapers by more pixels: 1 + 4 px
+  m.radius_max_px = 45.0f;
+  CHECK(one(m) == 0.0f);
+  m.radius_max_px = 46.0f;
+  CHECK(one(m) == doctest::Approx(1.0f));
+  // Not measured: passes.
+  m.radius_low_px = 0.0f;
+  CHECK(one(m) == 0.0f);
+  m.radius_low_px = std::nanf("");
+  CHECK(one(m) == 0.0f);
+  // Own values; validation.
+  m.radius_low_px = 10.0f;
+  m.radius_max_px = 12.0f;
+  CHECK(perch::one_limb{.taper = 0.0f, .uncertainty_px = 0.5f}(m) == doctest::Approx(1.5f));
+  CHECK(one.validate());
+  CHECK(perch::one_limb{.taper = -0.1f}.validate().error().code == errc::invalid_parameter);
+  CHECK(perch::one_limb{.uncertainty_px = std::nanf("")}.validate().error().code ==
+        errc::invalid_parameter);
+}

@@ -1045,7 +1045,7 @@ namespace {
 /// The unit each constraint of the built-in platforms reports its misses in.
 const std::vector<std::pair<std::string, std::string>> constraint_units = {
     {"supported", ""},       {"border", "px"},          {"diameter", "mm"},         {"resolution", "px"},
-    {"max_slope", "deg"},    {"min_slope", "deg"},      {"bend", "deg"},            {"max_curvature", "1/mm"},
+    {"one_limb", "px"},      {"max_slope", "deg"},    {"min_slope", "deg"},      {"bend", "deg"},            {"max_curvature", "1/mm"},
     {"monotonic", "mm"},     {"bending_stress", "MPa"}, {"clearance", "mm"},        {"clutter", "share"},
     {"free_space_above", "share"}, {"free_circle", "share"}};
 
@@ -1064,10 +1064,10 @@ TEST_CASE("detect: the tendon claw's constraints by name, near misses with their
     const json_value doc = parse(r.out);
     // Every constraint of the platform is counted in "rejected", the physical ones included.
     const json_value& rejected = member(doc, "rejected");
-    for (const char* key : {"supported", "border", "diameter", "resolution", "max_slope", "bend", "max_curvature",
-                            "monotonic", "bending_stress", "clearance"})
+    for (const char* key : {"supported", "border", "diameter", "resolution", "one_limb", "max_slope", "bend",
+                            "max_curvature", "monotonic", "bending_stress", "clearance"})
       CHECK_MESSAGE(member(rejected, key).is_number(), name << ": rejected." << key);
-    CHECK(rejected.members.size() == 10);
+    CHECK(rejected.members.size() == 11);
     for (const json_value& m : member(doc, "near_misses").items) {
       const std::string constraint = member(m, "constraint").text;
       const auto known = std::find_if(constraint_units.begin(), constraint_units.end(),
@@ -1087,7 +1087,8 @@ TEST_CASE("detect: the tendon claw's constraints by name, near misses with their
   }
   // The sample trees have near misses on the new, physical constraints.
   const auto has = [&](const char* c) { return std::find(seen.begin(), seen.end(), c) != seen.end(); };
-  CHECK((has("clearance") || has("bend") || has("border") || has("resolution") || has("supported")));
+  CHECK((has("clearance") || has("bend") || has("border") || has("resolution") || has("supported") ||
+         has("one_limb")));
 }
 
 TEST_CASE("detect --annotate: the chosen window's clearance envelope is drawn around it") {

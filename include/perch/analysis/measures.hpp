@@ -45,6 +45,12 @@ struct window_measures {
   /// inflates the mean. 0: not measured.
   float diameter_low_mm = 0;
   float claw_diameter_mm = 0;   ///< mean diameter over the central claw region
+  /// Largest and lower-tercile radius (px: the centreline's distance to the background) over
+  /// the window. One limb tapers gently under a drone's width; where the radius swells well
+  /// above its lower tercile the mask there is wider than this limb: another limb lying along
+  /// or merging into it, or the crotch of a fork (`one_limb`). 0: not measured.
+  float radius_max_px = 0;
+  float radius_low_px = 0;
   float reversal_mm = 0;        ///< largest step back along the chord (0 for a monotonic window)
   /// Largest slope (°, [0, 90]) of the limb's local tangent (`tangent_profile`) at any point of
   /// the window: a limb that is level on average but steep at one end is not a level perch.

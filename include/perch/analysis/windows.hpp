@@ -199,6 +199,7 @@ inline void measure_window_points(const window_branch& v, const window_cut& cut,
   float slope_max = 0, bend_max = 0;
   float border = std::numeric_limits<float>::max();
   float dmin = 1e30f, dmax = 0, dsum = 0, claw_sum = 0;
+  float rmax = 0;
   std::size_t claw_count = 0;
   const float claw_half_px = 0.5f * claw_width_mm / mm_per_px;
   for (std::size_t i = a; i <= b; ++i) {
@@ -207,6 +208,7 @@ inline void measure_window_points(const window_branch& v, const window_cut& cut,
     bend_max = std::max(bend_max, v.bend[i]);
     border = std::min(border, v.border_gap[i]);
     ksum += std::abs(v.kappa[i]);
+    rmax = std::max(rmax, v.branch.radius_px[i]);
     const float d = v.diameter_at(i);
     dmin = std::min(dmin, d);
     dmax = std::max(dmax, d);
@@ -228,15 +230,17 @@ inline void measure_window_points(const window_branch& v, const window_cut& cut,
   w.slope_max_deg = slope_max;
   w.bend_deg = bend_max;
   w.border_px = border;
+  w.radius_max_px = rmax;
 }
 
-/// Step 5: the window's lower-tercile diameter (px), selected in `work` (free again once the
-/// local scale is measured).
-[[nodiscard]] inline float lower_tercile_diameter(const window_branch& v, std::size_t a,
-                                                  std::size_t b) noexcept {
+/// Step 5: the lower tercile (a third of the values are below it) of `value(i)` over the
+/// window's points `a`..`b`, selected in `work` (free again once the local scale is measured).
+template <typename Value>
+[[nodiscard]] float lower_tercile(const window_branch& v, std::size_t a, std::size_t b,
+                                  Value value) noexcept {
   const std::span<float> work = v.work;
   const std::size_t low_count = std::min(b - a + 1, work.size());
-  for (std::size_t i = 0; i < low_count; ++i) work[i] = v.diameter_at(a + i);
+  for (std::size_t i = 0; i < low_count; ++i) work[i] = value(a + i);
   const auto low_rank = static_cast<std::ptrdiff_t>((low_count - 1) / 3);
   std::nth_element(work.begin(), work.begin() + low_rank,
                    work.begin() + static_cast<std::ptrdiff_t>(low_count));
@@ -290,7 +294,9 @@ inline void orient_window(const window_branch& v, const window_cut& cut, std::si
   w.slope_deg = slope_to_horizon_deg(to_point(pts.back()) - to_point(pts.front()), h);
   w.slope_fit_deg = fitted_slope_deg(pts, h);
   measure_window_points(v, cut, m, options.claw_width_mm, w);
-  w.diameter_low_mm = lower_tercile_diameter(v, a, b) * cut.mm_per_px;
+  w.diameter_low_mm =
+      lower_tercile(v, a, b, [&](std::size_t i) { return v.diameter_at(i); }) * cut.mm_per_px;
+  w.radius_low_px = lower_tercile(v, a, b, [&](std::size_t i) { return branch.radius_px[i]; });
   w.reversal_mm = reversal_px(pts) * cut.mm_per_px;
   w.grounded = branch.grounded;
   orient_window(v, cut, m, h, w);

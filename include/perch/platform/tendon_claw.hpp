@@ -17,7 +17,8 @@ namespace perch {
 ///    (`image_border`);
 ///  - the claw-region diameter is within 30–110 mm (`diameter_range`), and still is give or
 ///    take what a mask's outline and a cross-section's measuring leave unknown
-///    (`resolved_diameter`);
+///    (`resolved_diameter`), and the mask there is this one limb, not it and another lying
+///    along it or merging into it (`one_limb`);
 ///  - the limb's tangent is at most 35° from horizontal (`max_slope`), it turns by at most 20°
 ///    over a drone width around any point (`max_bend`), gently curved and monotonic;
 ///  - it holds the drone (paper eq. 4, `bending_stress`);
@@ -33,12 +34,13 @@ struct tendon_claw {
   static constexpr float claw_reach_mm = 70.0f;  ///< how far the fingers sweep round the limb
   platform_geometry geometry{.drone_width_mm = 180.0f, .claw_width_mm = 70.0f, .mass_kg = 1.5f,
                              .grasp_min_mm = 30.0f, .grasp_max_mm = 110.0f};
-  all_of<supported, image_border, diameter_range, resolved_diameter, max_slope, max_bend,
-         max_curvature, monotonic, bending_stress, clearance>
+  all_of<supported, image_border, diameter_range, resolved_diameter, one_limb, max_slope,
+         max_bend, max_curvature, monotonic, bending_stress, clearance>
       constraints{supported{},
                   image_border{3.0f},
                   diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm, 0.0f},
                   resolved_diameter{geometry.grasp_min_mm, geometry.grasp_max_mm},
+                  one_limb{},
                   max_slope{max_slope_deg},
                   max_bend{20.0f},
                   max_curvature{},

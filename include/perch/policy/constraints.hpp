@@ -233,6 +233,33 @@ struct clearance {
   }
 };
 
+/// The claw closes on one limb: over the window the limb's radius (`radius_max_px`) swells
+/// above its lower tercile (`radius_low_px`) by at most `taper` of it plus `uncertainty_px`.
+/// A limb under a drone's width is close to a cylinder: it tapers by a few per cent, and the
+/// distance map along a bending centreline ripples by a few more (`taper`, 10 %). Where the
+/// mask is much wider than that at some point of the window, something else is there: another
+/// limb lying along this one or merging into it (the two read as one wide band), the crotch of
+/// a fork the window runs onto, a blob of foliage. The claw would close on that, not on the
+/// limb measured. A swelling is read from one outline against the same outline elsewhere, so an
+/// outline drawn uniformly wider or narrower shifts both alike; a local bump of the outline is
+/// `outline_uncertainty_px`. Windows whose `radius_low_px` is 0 (not measured) pass.
+struct one_limb {
+  static constexpr std::string_view name = "one_limb";
+  static constexpr std::string_view unit = "px";
+  float taper = 0.1f;
+  float uncertainty_px = outline_uncertainty_px;
+  [[nodiscard]] float operator()(const window_measures& m) const noexcept {
+    if (!(m.radius_low_px > 0)) return 0.0f;
+    const float allowed = uncertainty_px + taper * m.radius_low_px;
+    return std::max(m.radius_max_px - m.radius_low_px - allowed, 0.0f);
+  }
+  [[nodiscard]] status validate() const noexcept {
+    if (!detail::finite_non_negative(taper) || !detail::finite_non_negative(uncertainty_px))
+      return fail(errc::invalid_parameter, "one_limb");
+    return {};
+  }
+};
+
 /// At most `max_share` of the band `margin_mm` around the branch is other tree (twigs, crossing
 /// branches, leaves): the paper's failure case of a perch buried in small branches.
 struct clutter {
