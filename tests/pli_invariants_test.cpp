@@ -170,7 +170,8 @@ TEST_CASE("invariants: random limb masks") {
     found += check_all(random_limbs(w, h, rng), 1.5f + static_cast<float>(i % 4), ws);
   }
   MESSAGE("random limbs: " << found << " runs of 1200 found a perch");
-  CHECK(found > 100);  // the site checks ran on many results (196 when written)
+  CHECK(found > 40);  // the site checks ran on many results (196 when written; 68 with the
+                      // safe-perch rules on every platform)
 }
 
 TEST_CASE("invariants: random noise masks") {
@@ -193,5 +194,6 @@ TEST_CASE("invariants: synthetic trees with noise, twigs, holes, crossings, a se
     found += check_all(tree.mask, tree.mm_per_px, ws);
   }
   MESSAGE("synthetic trees: " << found << " runs of 320 found a perch");
-  CHECK(found > 15);  // 84 when written; 24 under the safe-perch rules (issue 24)
+  CHECK(found > 8);  // 84 when written; 24 under the safe-perch rules (issue 24), 15 with
+                     // them on every platform
 }

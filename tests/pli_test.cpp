@@ -675,6 +675,20 @@ struct claw_at_any_border {
   perch::pli_penalty scorer{};
 };
 
+/// The tensile tether's grasp range and slope without the rules about the frame's edge, detached
+/// pieces and resolution (every stock platform has them).
+struct tether_at_any_border {
+  static constexpr std::string_view name = "tether-at-any-border";
+  perch::platform_geometry geometry = perch::tensile_tether{}.geometry;
+  perch::all_of<perch::diameter_range, perch::max_slope> constraints{
+      perch::diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm},
+      perch::max_slope{perch::tensile_tether::max_slope_deg}};
+  perch::pli_penalty scorer{.slope_max_deg = perch::tensile_tether::max_slope_deg,
+                            .diameter_min_mm = geometry.grasp_min_mm,
+                            .diameter_max_mm = geometry.grasp_max_mm,
+                            .ideal_diameter_mm = geometry.grasp_min_mm};
+};
+
 TEST_CASE("find_perch: downscaled sites on an odd-sized mask's last row stay in the image") {
   // Fuzz finding (tests/fuzz/corpus/fuzz_find_perch/odd-height-downscale-site-outside): at
   // downscale 0.5 the last reduced row of an odd-height mask is centred half a pixel below the
@@ -707,7 +721,8 @@ TEST_CASE("find_perch: downscaled sites on an odd-sized mask's last row stay in 
     REQUIRE(found);
     check_sites(row, *found, half.downscale);
   }
-  auto tether = perch::find_perch(row.view(), perch::tensile_tether{}, perch::fixed_scale{20.0f}, ws, half);
+  auto tether = perch::find_perch(row.view(), tether_at_any_border{}, perch::fixed_scale{20.0f}, ws,
+                                  half);
   REQUIRE(tether);
   CHECK(tether->outcome == perch_outcome::found);
   check_sites(row, *tether, half.downscale);

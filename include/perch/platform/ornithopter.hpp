@@ -12,16 +12,27 @@ namespace perch {
 
 /// Ornithopter: the wing span must clear other branches above the perch; the impact of a
 /// dynamic perch loads the branch more than a hover (load factor 3 in eq. 4) and raises the
-/// minimum diameter; near-level branches only (the PLI paper's adaptation). Sizes are
+/// minimum diameter; near-level branches only (the PLI paper's adaptation). Like every
+/// platform, a perch only on a supported piece of mask, clear of the frame's border, with its
+/// diameter known to fit; its feet close on one limb (`one_limb`) with no kink under its body
+/// (`max_bend`). Sizes are
 /// illustrative defaults: set them from your airframe.
 struct ornithopter {
   static constexpr std::string_view name = "ornithopter";
   static constexpr float max_slope_deg = 15.0f;
   platform_geometry geometry{.drone_width_mm = 200.0f, .claw_width_mm = 60.0f, .mass_kg = 0.7f,
                              .grasp_min_mm = 40.0f, .grasp_max_mm = 100.0f};
-  all_of<diameter_range, max_slope, max_curvature, monotonic, bending_stress, free_space_above>
-      constraints{diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm},
-                  max_slope{max_slope_deg}, max_curvature{}, monotonic{},
+  all_of<supported, image_border, diameter_range, resolved_diameter, one_limb, max_slope, max_bend,
+         max_curvature, monotonic, bending_stress, free_space_above>
+      constraints{supported{},
+                  image_border{},
+                  diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm},
+                  resolved_diameter{geometry.grasp_min_mm, geometry.grasp_max_mm},
+                  one_limb{},
+                  max_slope{max_slope_deg},
+                  max_bend{},
+                  max_curvature{},
+                  monotonic{},
                   bending_stress{.mass_kg = geometry.mass_kg, .load_factor = 3.0f},
                   free_space_above{.width_mm = 1500.0f, .height_mm = 300.0f, .max_share = 0.03f}};
   pli_penalty scorer{.lambda_slope = 0.9f, .lambda_diameter = 0.1f, .slope_max_deg = max_slope_deg,

@@ -37,7 +37,7 @@ struct tendon_claw {
   all_of<supported, image_border, diameter_range, resolved_diameter, one_limb, max_slope,
          max_bend, max_curvature, monotonic, bending_stress, clearance>
       constraints{supported{},
-                  image_border{3.0f},
+                  image_border{},
                   diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm, 0.0f},
                   resolved_diameter{geometry.grasp_min_mm, geometry.grasp_max_mm},
                   one_limb{},
