@@ -902,3 +902,24 @@ TEST_CASE("find_perch: no site's window holds a second limb fused along its limb
   CHECK(before);  // the limb either side of the fused stretch is still a perch
   CHECK(after);
 }
+
+TEST_CASE("find_perch: a scale known to ±20 % holds each rule at both ends of the range") {
+  // The T tree's limb 19 px wide at 2 mm/px: 38 mm, graspable when the scale is known; at the
+  // fine end of ±20 % it may be 30.4 mm, 1.6 px from the grasp minimum's 2.5 px margin.
+  const auto mask = t_tree(0.0f, 19.0f);
+  perch::workspace ws;
+  auto known = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws);
+  REQUIRE(known);
+  CHECK(known->outcome == perch_outcome::found);
+  auto uncertain = perch::find_perch(mask.view(), perch::tendon_claw{},
+                                     perch::fixed_scale{2.0f, 0.2f}, ws);
+  REQUIRE(uncertain);
+  CHECK(uncertain->outcome == perch_outcome::no_perch);
+  CHECK(rejected_by(*uncertain, "resolution") + rejected_by(*uncertain, "diameter") > 0);
+  CHECK(uncertain->mm_per_px == doctest::Approx(2.0f));  // the scale itself is reported as given
+  // The trunk prior takes the same uncertainty; a bad one is a status.
+  auto prior = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::trunk_prior{180.0f, 0.6f},
+                                 ws);
+  REQUIRE(!prior);
+  CHECK(prior.error().code == errc::invalid_parameter);
+}

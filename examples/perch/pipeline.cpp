@@ -56,6 +56,9 @@ void add_pipeline_options(support::arg_parser& args, depth_option depth) {
                   "tendon-claw");
   args.add_option("mm-per-px", "X", "known scale: millimetres per input pixel");
   args.add_option("trunk-mm", "D", "trunk prior: the widest point of the tree is D mm wide", "180");
+  args.add_option("scale-uncertainty", "U",
+                  "the scale is known to +-U (relative, [0, 0.5)): every rule in mm holds at both\n"
+                  "ends of the range; default 0 with --mm-per-px or depth, 0.1 with the trunk prior");
   if (depth == depth_option::offered)
     args.add_option("depth", "DEPTH.png", "16-bit depth in mm registered to the mask (0 = invalid); needs --fx --fy --cx --cy");
   if (depth == depth_option::per_frame)
@@ -149,6 +152,9 @@ std::string read_pipeline_options(const support::arg_parser& args, depth_option 
   const auto trunk = args.get_double("trunk-mm", 180.0, 1e-3, 1e6);
   if (!trunk) return trunk.error;
   config.scale.trunk_mm = static_cast<float>(trunk.value);
+  const auto uncertainty = args.get_double("scale-uncertainty", 0.0, 0.0, 0.49);
+  if (!uncertainty) return uncertainty.error;
+  if (args.has("scale-uncertainty")) config.scale.uncertainty = static_cast<float>(uncertainty.value);
   if (args.has("mm-per-px")) {
     config.scale.kind = scale_kind::fixed;
     config.scale.mm_per_px = static_cast<float>(mm.value);

@@ -128,6 +128,7 @@ std::string detect_json(const perch_result& r, const document_source& source, co
   json.member("width", r.width).member("height", r.height).end_object();
   json.member("mm_per_px", tidy(r.mm_per_px));
   json.member("scale", r.scale);
+  json.member("scale_uncertainty", tidy(r.scale_uncertainty));
   json.member("platform", r.platform);
   json.key("perch");
   if (r.sites.empty())

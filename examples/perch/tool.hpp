@@ -87,6 +87,7 @@ struct scale_config {
   scale_kind kind = scale_kind::trunk_prior;
   float mm_per_px = 0;          ///< --mm-per-px
   float trunk_mm = 180.0f;      ///< --trunk-mm
+  std::optional<float> uncertainty;  ///< --scale-uncertainty (relative); else the policy's own
   std::optional<image<std::uint16_t>> depth_mm;  ///< --depth (millimetres, 0 invalid)
   std::optional<std::filesystem::path> depth_dir;  ///< --depth-dir (track: DIR/NAME per frame)
   pinhole intrinsics{};         ///< --fx --fy --cx --cy
@@ -98,13 +99,15 @@ template <class F>
 decltype(auto) visit_scale(const scale_config& scale, F&& f) {
   switch (scale.kind) {
     case scale_kind::fixed:
-      return f(fixed_scale{scale.mm_per_px});
+      return f(fixed_scale{scale.mm_per_px, scale.uncertainty.value_or(0.0f)});
     case scale_kind::depth:
-      return f(depth_scale{scale.depth_mm->view(), scale.intrinsics});
+      return f(depth_scale{scale.depth_mm->view(), scale.intrinsics,
+                           scale.uncertainty.value_or(0.0f)});
     case scale_kind::trunk_prior:
       break;
   }
-  return f(trunk_prior{scale.trunk_mm});
+  return f(trunk_prior{scale.trunk_mm,
+                       scale.uncertainty.value_or(trunk_prior{}.relative_uncertainty)});
 }
 
 /// Reads a depth PNG (16-bit millimetres, 0 invalid; 8-bit widened) into `out`. Returns an

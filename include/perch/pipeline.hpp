@@ -126,6 +126,7 @@ struct perch_result {
   std::uint32_t windows_held = 0;
   float mm_per_px = 0;  ///< global scale, per input-image pixel
   std::string_view scale{};     ///< the scale policy's name
+  float scale_uncertainty = 0;  ///< its relative uncertainty: every rule in mm held at both ends
   std::string_view platform{};  ///< the platform's name
   int width = 0, height = 0;    ///< input image size
   prepared_mask mask{};                       ///< the analysed (cropped, reduced) mask
@@ -398,7 +399,10 @@ template <class Scale>
   s.node_distance = *node_distance;
   s.next = edge_continuations(*next);
   PERCH_TRY(distances_to_trunk(graph, s.node_distance, ws));
-  limb_continuations(graph, s.next, options.limbs, options.obstacles.twig_radius_px(s.mm_per_px));
+  // A limb is a twig only if it is one at the coarse end of the scale's range.
+  const float coarse_mm_per_px = s.mm_per_px * (1.0f + scale_uncertainty(*s.scaled));
+  limb_continuations(graph, s.next, options.limbs,
+                     options.obstacles.twig_radius_px(coarse_mm_per_px));
   auto traced = trace_limbs(graph, s.next, ws);
   PERCH_TRY(all_ok(traced));
   out.limbs = *traced;
@@ -416,7 +420,7 @@ template <class Scale>
   auto obstacles = find_limb_obstacles(graph, out.limbs, s.next, s.stretches,
                                        image_view<const std::uint8_t>(s.skeleton),
                                        image_view<const std::uint32_t>(s.dist),
-                                       runs_of(s.listed, s.skeleton), s.mm_per_px, ws,
+                                       runs_of(s.listed, s.skeleton), coarse_mm_per_px, ws,
                                        options.obstacles);
   PERCH_TRY(all_ok(obstacles));
   s.obstacles = *obstacles;
@@ -434,7 +438,9 @@ template <BinaryView Mask, Platform P, class Scale>
                                   workspace& ws, perch_result& out,
                                   pipeline_state<Scale>& s) noexcept {
   window_options geometry;
-  geometry.drone_width_mm = platform.geometry.drone_width_mm;
+  // One drone width even at the fine end of the scale's range.
+  geometry.drone_width_mm =
+      platform.geometry.drone_width_mm / (1.0f - scale_uncertainty(*s.scaled));
   geometry.claw_width_mm = platform.geometry.claw_width_mm;
   geometry.stride_mm = options.stride_mm;
   geometry.curvature_stencil_mm = options.curvature_stencil_mm;
@@ -504,7 +510,7 @@ template <Platform P, class Scale>
                           std::sqrt(static_cast<float>(s.dist(mid.x, mid.y))), up, &s.clearance);
   };
   auto ranked = rank_windows(s.windows.items(), platform.constraints, platform.scorer,
-                             make_context, ws, options.ranking);
+                             make_context, ws, options.ranking, scale_uncertainty(*s.scaled));
   PERCH_TRY(all_ok(ranked));
   auto input_pixel = [&](pixel p) {
     const point2f c = out.mask.to_input(to_point(p));

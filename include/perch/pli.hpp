@@ -63,6 +63,7 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
   out.width = mask.width();
   out.height = mask.height();
   out.scale = Scale::name;
+  out.scale_uncertainty = scale_uncertainty(scale);
   out.platform = P::name;
   detail::pipeline_state<Scale> state;
 

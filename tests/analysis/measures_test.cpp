@@ -609,3 +609,58 @@ TEST_CASE("windows: border gap, steepest tangent, bend and grounding per window"
   CHECK((*out)[0].slope_max_deg > 37.0f);
   CHECK(out->back().slope_max_deg < 3.0f);
 }
+
+TEST_CASE("measures: a window read at another scale scales its millimetres, not its pixels") {
+  perch::window_measures m;
+  m.mm_per_px = 2.0f;
+  m.claw_diameter_mm = 40.0f;
+  m.diameter_low_mm = 38.0f;
+  m.diameter_min_mm = 36.0f;
+  m.diameter_max_mm = 44.0f;
+  m.diameter_mean_mm = 41.0f;
+  m.reversal_mm = 2.0f;
+  m.origin_distance_mm = 500.0f;
+  m.origin_horizontal_mm = 400.0f;
+  m.curvature_max_per_mm = 0.01f;
+  m.curvature_mean_per_mm = 0.005f;
+  m.slope_deg = 12.0f;
+  m.radius_max_px = 11.0f;
+  m.border_px = 7.0f;
+  const perch::window_measures k = perch::at_scale(m, 1.25f);
+  CHECK(k.mm_per_px == doctest::Approx(2.5f));
+  CHECK(k.claw_diameter_mm == doctest::Approx(50.0f));
+  CHECK(k.diameter_low_mm == doctest::Approx(47.5f));
+  CHECK(k.diameter_min_mm == doctest::Approx(45.0f));
+  CHECK(k.diameter_max_mm == doctest::Approx(55.0f));
+  CHECK(k.diameter_mean_mm == doctest::Approx(51.25f));
+  CHECK(k.reversal_mm == doctest::Approx(2.5f));
+  CHECK(k.origin_distance_mm == doctest::Approx(625.0f));
+  CHECK(k.origin_horizontal_mm == doctest::Approx(500.0f));
+  CHECK(k.curvature_max_per_mm == doctest::Approx(0.008f));
+  CHECK(k.curvature_mean_per_mm == doctest::Approx(0.004f));
+  CHECK(k.slope_deg == 12.0f);       // angles and pixels unchanged
+  CHECK(k.radius_max_px == 11.0f);
+  CHECK(k.border_px == 7.0f);
+}
+
+TEST_CASE("scale: a policy's relative uncertainty, validated; 0 for a policy without one") {
+  const perch::scale_context c{100, 100, 10.0f};
+  CHECK(perch::scale_uncertainty(perch::fixed_scale{2.0f}) == 0.0f);
+  CHECK(perch::scale_uncertainty(perch::fixed_scale{2.0f, 0.1f}) == 0.1f);
+  CHECK(perch::scale_uncertainty(perch::trunk_prior{180.0f, 0.2f}) == 0.2f);
+  CHECK(perch::fixed_scale{2.0f, 0.49f}.validate(c));
+  for (const float bad : {-0.1f, 0.5f, std::nanf(""), 2.0f}) {
+    CAPTURE(bad);
+    CHECK(perch::fixed_scale{2.0f, bad}.validate(c).error().code == perch::errc::invalid_parameter);
+    CHECK(perch::trunk_prior{180.0f, bad}.validate(c).error().code ==
+          perch::errc::invalid_parameter);
+  }
+  // Kept through a downscale.
+  perch::workspace ws;
+  const auto half = perch::fixed_scale{2.0f, 0.15f}.rescaled(0.5f, ws);
+  REQUIRE(half);
+  CHECK(half->mm_per_px == doctest::Approx(4.0f));
+  CHECK(half->relative_uncertainty == 0.15f);
+  struct no_uncertainty {};
+  CHECK(perch::scale_uncertainty(no_uncertainty{}) == 0.0f);
+}

@@ -102,3 +102,46 @@ TEST_CASE("rank: no viable window is a normal outcome") {
   CHECK(ranked->sites.empty());
   CHECK(ranked->rejections[0].windows == 1);
 }
+
+TEST_CASE("rank: with an uncertain scale every rule in mm holds at both ends of it") {
+  // A branch 5 px thick along row 50 (radius 2.5 px) and a line 26 px from its axis. clutter's
+  // band reaches 2.5 px + 20 mm across: 22.5 px at 1 mm/px, 24.7 px at the fine end of ±10 %,
+  // 27.5 px at the fine end of ±20 % (the line inside). Diameters: 34 mm is 27.2 mm at the fine
+  // end of ±20 %; 105 mm is 115.5 mm at the coarse end of ±10 %.
+  perch::image<std::uint8_t> mask(200, 100, 0);
+  for (int x = 0; x < 200; ++x)
+    for (int y = 48; y <= 52; ++y) mask(x, y) = 1;
+  for (int x = 0; x < 200; ++x) mask(x, 24) = 1;
+  perch::workspace ws;
+  const perch::tree_pixel_counter tree(mask.view());
+  const std::vector<perch::window_measures> windows = {
+      window(0, 0, 40, 0.0f, 34.0f),    // thin end
+      window(1, 0, 100, 0.0f, 60.0f),   // middle of the range
+      window(2, 0, 160, 0.0f, 105.0f),  // thick end
+  };
+  using constraints = perch::all_of<perch::diameter_range, perch::clutter>;
+  const constraints c{perch::diameter_range{30.0f, 110.0f, 0.0f},
+                      perch::clutter{.margin_mm = 20.0f, .max_share = 0.0f}};
+  auto make_context = [&tree](const perch::window_measures& m) {
+    const perch::point2f centre = perch::to_point(m.centre);
+    return perch::window_context(tree, m, centre - perch::point2f(10, 0),
+                                 centre + perch::point2f(10, 0), 2.5f, perch::point2f(0, -1));
+  };
+  auto exact = perch::rank_windows(windows, c, perch::pli_penalty{}, make_context, ws, {}, 0.0f);
+  REQUIRE(exact);
+  CHECK(exact->viable == 3);
+  auto some = perch::rank_windows(windows, c, perch::pli_penalty{}, make_context, ws, {}, 0.1f);
+  REQUIRE(some);
+  CHECK(some->viable == 2);
+  CHECK(some->rejections[0].windows == 1);  // 105 mm: 115.5 mm at the coarse end
+  REQUIRE(some->near_misses[0].present);
+  CHECK(some->near_misses[0].miss == doctest::Approx(5.5f));
+  CHECK(some->sites[0].window.claw_diameter_mm == 34.0f);  // reported at the nominal scale
+  auto wide = perch::rank_windows(windows, c, perch::pli_penalty{}, make_context, ws, {}, 0.2f);
+  REQUIRE(wide);
+  CHECK(wide->viable == 0);
+  CHECK(wide->rejections[0].windows == 2);  // 34 mm and 105 mm: out of range at one end
+  CHECK(wide->rejections[1].windows == 1);  // 60 mm: the band reaches the line at the fine end
+  REQUIRE(wide->near_misses[0].present);
+  CHECK(wide->near_misses[0].miss == doctest::Approx(2.8f));  // 27.2 mm at the fine end
+}

@@ -679,7 +679,9 @@ TEST_CASE("track --depth-dir: metric positions from each frame's depth; missing 
     const json_value& line = lines[i];
     const auto flag = flagged.find(i);
     CHECK(member(line, "depth").text == (flag != flagged.end() ? flag->second : "ok"));
-    CHECK(member(line, "status").text == "ok");  // analysed all the same
+    // Analysed all the same (a frame without depth on the trunk prior, which may refuse).
+    const std::string status = member(line, "status").text;
+    CHECK((status == "ok" || (flag != flagged.end() && status == "no_perch")));
     CHECK((line.find("depth_error") != nullptr) == (i == 6 || i == 10));
     const json_value& target = member(line, "target");
     if (target.is_object()) {

@@ -86,6 +86,20 @@ struct window_measures {
   bool has_position = false;  ///< whether the camera-frame positions and axis are set
 };
 
+/// The window `m` read at `k` times its scale (its pixels unchanged): every length in mm
+/// times `k`, curvature per mm divided by it. The ranking reads a window at both ends of its
+/// scale's uncertainty (`scale_uncertainty`) with this.
+[[nodiscard]] inline window_measures at_scale(window_measures m, float k) noexcept {
+  m.mm_per_px *= k;
+  m.curvature_max_per_mm /= k;
+  m.curvature_mean_per_mm /= k;
+  for (float* mm : {&m.diameter_min_mm, &m.diameter_max_mm, &m.diameter_mean_mm,
+                    &m.diameter_low_mm, &m.claw_diameter_mm, &m.reversal_mm,
+                    &m.origin_distance_mm, &m.origin_horizontal_mm})
+    *mm *= k;
+  return m;
+}
+
 /// Options of the curvature estimate (paper table 2: central differences + moving average).
 struct curvature_options {
   /// Central-difference half-step and smoothing half-width, in px (≥ 1). Digital centrelines

@@ -58,14 +58,35 @@ concept ScalePolicy = requires(const S& s, const scale_context& c, std::span<con
   { s.rescaled(float{}, ws) } noexcept -> std::same_as<result<S>>;
 };
 
+/// How well a scale is known, relative (0.1: the true scale lies within ±10 % of the one
+/// given). Every rule stated in millimetres then holds at both ends of that range (a gap, the
+/// grasp minimum and the drone's width at the fine end, the grasp maximum and the twig limit at
+/// the coarse end): a scale that is off makes perch refuse more, never perch where it should
+/// not. Valid in [0, 0.5).
+[[nodiscard]] constexpr bool valid_scale_uncertainty(float u) noexcept {
+  return u >= 0.0f && u < 0.5f;  // false for NaN
+}
+
+/// The `relative_uncertainty` of a scale policy; 0 for a policy without one.
+template <class S>
+[[nodiscard]] constexpr float scale_uncertainty(const S& s) noexcept {
+  if constexpr (requires { { s.relative_uncertainty } -> std::convertible_to<float>; })
+    return s.relative_uncertainty;
+  else
+    return 0.0f;
+}
+
 /// A known, constant scale (e.g. from a calibrated camera at a known distance).
 struct fixed_scale {
   static constexpr std::string_view name = "fixed";
   float mm_per_px = 1.0f;
+  float relative_uncertainty = 0.0f;  ///< see `scale_uncertainty`; 0: known exactly
 
   [[nodiscard]] status validate(const scale_context&) const noexcept {
     if (!(std::isfinite(mm_per_px) && mm_per_px > 0))
       return fail(errc::invalid_parameter, "fixed_scale.mm_per_px");
+    if (!valid_scale_uncertainty(relative_uncertainty))
+      return fail(errc::invalid_parameter, "fixed_scale.relative_uncertainty");
     return {};
   }
   [[nodiscard]] result<float> global_mm_per_px(const scale_context&) const noexcept {
@@ -77,20 +98,27 @@ struct fixed_scale {
   }
   /// The same scale for the image reduced by `factor` (see `find_perch`'s downscale).
   [[nodiscard]] result<fixed_scale> rescaled(float factor, workspace&) const noexcept {
-    return fixed_scale{mm_per_px / factor};
+    return fixed_scale{mm_per_px / factor, relative_uncertainty};
   }
 };
 
 /// The trunk prior: the widest point of the tree is its trunk, of diameter
-/// `trunk_diameter_mm` [180 mm] (the reference prototype's calibration). Diameter at the
-/// widest point = 2·d_max − 1 px.
+/// `trunk_diameter_mm` [180 mm] (the reference prototype's calibration) give or take
+/// `relative_uncertainty` [10 %]. Diameter at the widest point = 2·d_max − 1 px.
+/// A prior is a guess: trunks of one stand differ by tens of per cent, and a scale read 11 %
+/// too coarse made every eighth perch of the synthetic population unsafe (gaps read wider than
+/// they are) where ±10 % made none (docs/accuracy-log.md, session 15). State the trunk you
+/// expect and how well you know it; a wider range refuses more.
 struct trunk_prior {
   static constexpr std::string_view name = "trunk-prior";
   float trunk_diameter_mm = 180.0f;
+  float relative_uncertainty = 0.1f;  ///< how far the trunk may be from `trunk_diameter_mm`
 
   [[nodiscard]] status validate(const scale_context&) const noexcept {
     if (!(std::isfinite(trunk_diameter_mm) && trunk_diameter_mm > 0))
       return fail(errc::invalid_parameter, "trunk_prior.trunk_diameter_mm");
+    if (!valid_scale_uncertainty(relative_uncertainty))
+      return fail(errc::invalid_parameter, "trunk_prior.relative_uncertainty");
     return {};
   }
   [[nodiscard]] result<float> global_mm_per_px(const scale_context& c) const noexcept {
@@ -137,10 +165,13 @@ struct depth_scale {
   static constexpr std::string_view name = "depth";
   image_view<const std::uint16_t> depth_mm{};
   pinhole intrinsics{};
+  float relative_uncertainty = 0.0f;  ///< the depth's and focal length's, see `scale_uncertainty`
 
   [[nodiscard]] status validate(const scale_context& c) const noexcept {
     PERCH_TRY(validate_non_empty(depth_mm));
     PERCH_TRY(intrinsics.validate());
+    if (!valid_scale_uncertainty(relative_uncertainty))
+      return fail(errc::invalid_parameter, "depth_scale.relative_uncertainty");
     if (depth_mm.width() != c.width || depth_mm.height() != c.height)
       return fail(errc::size_mismatch, "depth_scale.depth_mm vs mask");
     return {};

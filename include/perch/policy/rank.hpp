@@ -74,18 +74,23 @@ struct ranking_candidate {
 /// clearance ones only when those all pass, with the context `make_context(m)` built once, on
 /// the first clearance query): a viable window is scored into `candidates`, any other counted
 /// against the first constraint it fails, and kept in `misses` when it failed only that one
-/// and by less than the window kept there. Returns the number of viable windows. (One loop:
-/// the checks stay inlined in it.)
+/// and by less than the window kept there. With a `scale_uncertainty` u > 0 each constraint
+/// reads the window at both ends of its scale's range (`at_scale`, 1 − u and 1 + u) and misses
+/// by the larger. Returns the number of viable windows. (One loop: the checks stay inlined in
+/// it.)
 template <Constraint C, Scorer S, class MakeContext>
 [[nodiscard]] std::size_t judge_windows(std::span<const window_measures> windows,
                                         const C& constraints, const S& scorer,
-                                        MakeContext& make_context,
+                                        MakeContext& make_context, float scale_uncertainty,
                                         std::span<ranking_candidate> candidates,
                                         std::span<rejection_count> rejections,
                                         std::span<near_miss> misses) noexcept {
   std::size_t viable = 0;
+  const bool uncertain = scale_uncertainty > 0;
   for (std::size_t w = 0; w < windows.size(); ++w) {
     const window_measures& m = windows[w];
+    const window_measures fine = uncertain ? at_scale(m, 1.0f - scale_uncertainty) : m;
+    const window_measures coarse = uncertain ? at_scale(m, 1.0f + scale_uncertainty) : m;
     std::size_t failed = 0;
     std::size_t first_failed = leaf_count<C>;
     float first_miss = 0;
@@ -98,15 +103,22 @@ template <Constraint C, Scorer S, class MakeContext>
       }
     };
     for_each_leaf(constraints, [&](const auto& leaf, std::size_t i) {
-      if constexpr (GeometricConstraint<std::remove_cvref_t<decltype(leaf)>>) note(i, leaf(m));
+      if constexpr (GeometricConstraint<std::remove_cvref_t<decltype(leaf)>>)
+        note(i, uncertain ? std::max(leaf(fine), leaf(coarse)) : leaf(m));
     });
     if (failed == 0) {
-      std::optional<window_context> context;
+      std::optional<window_context> context, fine_context, coarse_context;
       for_each_leaf(constraints, [&](const auto& leaf, std::size_t i) {
         using leaf_type = std::remove_cvref_t<decltype(leaf)>;
         if constexpr (!GeometricConstraint<leaf_type> && ContextConstraint<leaf_type>) {
-          if (!context) context.emplace(make_context(m));
-          note(i, leaf(m, *context));
+          if (!uncertain) {
+            if (!context) context.emplace(make_context(m));
+            note(i, leaf(m, *context));
+          } else {
+            if (!fine_context) fine_context.emplace(make_context(fine));
+            if (!coarse_context) coarse_context.emplace(make_context(coarse));
+            note(i, std::max(leaf(fine, *fine_context), leaf(coarse, *coarse_context)));
+          }
         }
       });
     }
@@ -154,13 +166,15 @@ inline std::size_t choose_distinct_sites(std::span<const window_measures> window
 /// and returns the `top_k` lowest penalties whose centres are at least `site_separation_mm`
 /// apart. Ties break by branch, then window start: deterministic.
 /// `make_context(window)` builds the `window_context` for clearance constraints; it is called
-/// only for windows that passed every geometric constraint.
+/// only for windows that passed every geometric constraint. `scale_uncertainty`: the windows'
+/// scale's (`perch::scale_uncertainty`); every constraint then holds at both ends of it.
 /// Complexity: O(windows · constraints + viable · log viable) plus the clearance queries.
 template <Constraint C, Scorer S, class MakeContext>
 [[nodiscard]] result<ranking> rank_windows(std::span<const window_measures> windows,
                                            const C& constraints, const S& scorer,
                                            MakeContext&& make_context, workspace& ws,
-                                           const rank_options& options = {}) noexcept {
+                                           const rank_options& options = {},
+                                           float scale_uncertainty = 0.0f) noexcept {
   constexpr std::size_t leaves = leaf_count<C>;
   auto rejections = ws.allocate<rejection_count>(leaves);
   auto misses = ws.allocate<near_miss>(leaves);
@@ -173,7 +187,8 @@ template <Constraint C, Scorer S, class MakeContext>
   auto candidates = ws.allocate<detail::ranking_candidate>(windows.size());
   PERCH_TRY(all_ok(candidates));
   const std::size_t viable = detail::judge_windows(windows, constraints, scorer, make_context,
-                                                  *candidates, *rejections, *misses);
+                                                  scale_uncertainty, *candidates, *rejections,
+                                                  *misses);
 
   std::sort(candidates->begin(), candidates->begin() + static_cast<std::ptrdiff_t>(viable),
             [&windows](const detail::ranking_candidate& a, const detail::ranking_candidate& b) {
