@@ -21,20 +21,10 @@ struct metamorphic_quadrotor {
   static constexpr float max_slope_deg = 20.0f;
   platform_geometry geometry{.drone_width_mm = 300.0f, .claw_width_mm = 120.0f, .mass_kg = 1.2f,
                              .grasp_min_mm = 25.0f, .grasp_max_mm = 90.0f};
-  all_of<supported, image_border, diameter_range, resolved_diameter, one_limb, max_slope, max_bend,
-         max_curvature, monotonic, bending_stress, free_space_above>
-      constraints{supported{},
-                  image_border{},
-                  diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm},
-                  resolved_diameter{geometry.grasp_min_mm, geometry.grasp_max_mm},
-                  one_limb{},
-                  max_slope{max_slope_deg},
-                  max_bend{},
-                  max_curvature{},
-                  monotonic{},
-                  bending_stress{geometry.mass_kg},
-                  free_space_above{.width_mm = geometry.drone_width_mm, .height_mm = 200.0f,
-                                   .max_share = 0.02f}};
+  landing_constraints constraints = landing_on_limb(
+      geometry, max_slope_deg, bending_stress{geometry.mass_kg},
+      free_space_above{.width_mm = geometry.drone_width_mm, .height_mm = 200.0f,
+                       .max_share = 0.02f});
   pli_penalty scorer{.lambda_slope = 0.8f, .lambda_diameter = 0.2f, .slope_max_deg = max_slope_deg,
                      .diameter_min_mm = geometry.grasp_min_mm,
                      .diameter_max_mm = geometry.grasp_max_mm,

@@ -22,19 +22,10 @@ struct ornithopter {
   static constexpr float max_slope_deg = 15.0f;
   platform_geometry geometry{.drone_width_mm = 200.0f, .claw_width_mm = 60.0f, .mass_kg = 0.7f,
                              .grasp_min_mm = 40.0f, .grasp_max_mm = 100.0f};
-  all_of<supported, image_border, diameter_range, resolved_diameter, one_limb, max_slope, max_bend,
-         max_curvature, monotonic, bending_stress, free_space_above>
-      constraints{supported{},
-                  image_border{},
-                  diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm},
-                  resolved_diameter{geometry.grasp_min_mm, geometry.grasp_max_mm},
-                  one_limb{},
-                  max_slope{max_slope_deg},
-                  max_bend{},
-                  max_curvature{},
-                  monotonic{},
-                  bending_stress{.mass_kg = geometry.mass_kg, .load_factor = 3.0f},
-                  free_space_above{.width_mm = 1500.0f, .height_mm = 300.0f, .max_share = 0.03f}};
+  landing_constraints constraints =
+      landing_on_limb(geometry, max_slope_deg,
+                      bending_stress{.mass_kg = geometry.mass_kg, .load_factor = 3.0f},
+                      free_space_above{.width_mm = 1500.0f, .height_mm = 300.0f, .max_share = 0.03f});
   pli_penalty scorer{.lambda_slope = 0.9f, .lambda_diameter = 0.1f, .slope_max_deg = max_slope_deg,
                      .diameter_min_mm = geometry.grasp_min_mm,
                      .diameter_max_mm = geometry.grasp_max_mm,

@@ -32,6 +32,33 @@ struct platform_geometry {
   }
 };
 
+/// The constraints of a drone that lands on top of a limb and closes on it (the metamorphic
+/// quadrotor's arms, the ornithopter's feet): the mask's facts every platform has (supported,
+/// border, diameter known to be in range), one limb under it with no kink under its body, its
+/// slope, the paper's filters and eq. 4, and free space above for its approach.
+using landing_constraints =
+    all_of<supported, image_border, diameter_range, resolved_diameter, one_limb, max_slope,
+           max_bend, max_curvature, monotonic, bending_stress, free_space_above>;
+
+/// `landing_constraints` for `geometry` (its grasp range), with the platform's own slope limit,
+/// bending stress (mass and load) and free space above.
+[[nodiscard]] constexpr landing_constraints landing_on_limb(const platform_geometry& geometry,
+                                                            float max_slope_deg,
+                                                            bending_stress stress,
+                                                            free_space_above space) noexcept {
+  return landing_constraints{supported{},
+                             image_border{},
+                             diameter_range{geometry.grasp_min_mm, geometry.grasp_max_mm},
+                             resolved_diameter{geometry.grasp_min_mm, geometry.grasp_max_mm},
+                             one_limb{},
+                             max_slope{max_slope_deg},
+                             max_bend{},
+                             max_curvature{},
+                             monotonic{},
+                             stress,
+                             space};
+}
+
 /// A platform: `P::name`, `p.geometry`, `p.constraints` (a Constraint, usually `all_of<...>`),
 /// `p.scorer` (a Scorer).
 template <class P>
