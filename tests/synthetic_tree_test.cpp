@@ -483,7 +483,7 @@ TEST_CASE("benchmark trees: perchable limbs for a tendon claw exist at every siz
   }
 }
 
-TEST_CASE("benchmark trees: 4000x3000 clean and noisy in well under a second") {
+TEST_CASE("benchmark trees: 4000x3000 clean and noisy") {
   for (const tree_noise noise : {tree_noise::clean, tree_noise::noisy}) {
     const auto start = std::chrono::steady_clock::now();
     const synthetic_tree tree = perch::support::benchmark_tree(4000, 3000, noise);
@@ -495,7 +495,6 @@ TEST_CASE("benchmark trees: 4000x3000 clean and noisy in well under a second") {
     const double share = foreground_share(tree.mask);
     CHECK(share >= 0.05);
     CHECK(share <= 0.40);
-    CHECK(ms < 3000.0);  // generous for sanitizer builds; ~50 ms optimised
     MESSAGE("4000x3000 " << (noise == tree_noise::noisy ? "noisy" : "clean") << ": " << ms
                          << " ms, " << tree.limbs.size() << " limbs, foreground " << share);
   }
@@ -945,7 +944,7 @@ TEST_CASE("tree_options::wide_side_angles: side limbs leave at 20-80 degrees") {
   CHECK(above_70 >= 1);
 }
 
-TEST_CASE("perch_truth: no-perch trees stay so with every knob; a 960x720 truth is fast") {
+TEST_CASE("perch_truth: no-perch trees stay so with every knob") {
   int with = 0;
   double worst_ms = 0.0;
   for (std::uint32_t seed = 1; seed <= 12; ++seed) {
@@ -974,7 +973,7 @@ TEST_CASE("perch_truth: no-perch trees stay so with every knob; a 960x720 truth 
         with += truth.has_perch() ? 1 : 0;
     }
   }
-  CHECK(worst_ms < 1000.0);
+  // Speed is the benchmarks' to measure, never a test's to assert: the time is only reported.
   MESSAGE(with << " of 12 natural trees with every knob have a perch; truth worst " << worst_ms
                << " ms");
 }
