@@ -6,6 +6,8 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
+
 #include "allocation_counter.hpp"
 #include "perch/pli.hpp"
 #include "support/sequence.hpp"
@@ -60,6 +62,47 @@ TEST_CASE("the estimated motion between approach frames matches the true one") {
     CHECK(error < 0.25f * identity_error);
   }
   CHECK(estimated >= 4);
+}
+
+TEST_CASE("the estimated zoom of an approach is not biased toward 1, and states its uncertainty") {
+  // Sequence 3's first second: limbs cut by the frame's edge end there, and those ends stay on
+  // the edge as the picture grows. Taken as keypoints they pulled the zoom toward 1: 0.22 % a
+  // frame too little on average here, which a depth carried by the motion accumulates.
+  const st::approach_sequence seq = st::evaluation_sequence(3, st::sequence_options{});
+  perch::workspace ws;
+  perch::motion_estimator estimator;
+  double error_sum = 0, error_squares = 0, stated_squares = 0;
+  int estimated = 0;
+  for (int f = 0; f < 30; ++f) {
+    const st::sequence_frame frame = seq.frame(f);
+    const auto found = perch::find_perch(frame.mask.view(), perch::tendon_claw{},
+                                         perch::fixed_scale{frame.tree.mm_per_px}, ws);
+    REQUIRE(found);
+    const perch::motion_estimate m = estimator.update(*found);
+    CHECK(m.motion.valid());
+    if (!m.estimated) {
+      CHECK(m.motion.scale_uncertainty == doctest::Approx(0.25f));  // any zoom the search allows
+      continue;
+    }
+    const perch::point2f centre(0.5f * static_cast<float>(seq.width()),
+                                0.5f * static_cast<float>(seq.height()));
+    const float ratio = m.motion.scale_at(centre) / frame.motion.scale_at(centre);
+    const double error = std::log(static_cast<double>(ratio));
+    error_sum += error;
+    error_squares += error * error;
+    const auto stated = static_cast<double>(m.motion.scale_uncertainty);
+    stated_squares += stated * stated;
+    ++estimated;
+  }
+  REQUIRE(estimated >= 25);
+  const double mean = error_sum / estimated;
+  const double rms = std::sqrt(error_squares / estimated);
+  const double stated = std::sqrt(stated_squares / estimated);
+  INFO("mean " << mean << " rms " << rms << " stated " << stated);
+  CHECK(std::abs(mean) < 0.0008);
+  // The stated uncertainty is of the error's size (from the inliers' residuals: a little less).
+  CHECK(stated > 0.4 * rms);
+  CHECK(stated < 2.5 * rms);
 }
 
 TEST_CASE("motion_estimator: no tree gives the identity; the same frames give the same motion") {

@@ -20,6 +20,11 @@ namespace perch {
 /// current frame's: p' = H·(x, y, 1), divided by its third coordinate. Row-major 3×3.
 struct camera_motion {
   std::array<float, 9> h{1, 0, 0, 0, 1, 0, 0, 0, 1};
+  /// The relative standard uncertainty (1σ) of the map's scale: how far the depth ratio it
+  /// implies (`perch_tracker` carries a track's depth with it) may be off, 0.002 for 0.2 %.
+  /// 0: exact, or not stated (the tracker then allows its `tracker_options::depth_drift`
+  /// alone). `motion_estimator` states it.
+  float scale_uncertainty = 0;
 
   /// No motion.
   [[nodiscard]] static constexpr camera_motion identity() noexcept { return {}; }
@@ -30,7 +35,9 @@ struct camera_motion {
                                                 float ty) noexcept {
     const float a = rotation_deg * std::numbers::pi_v<float> / 180.0f;
     const float c = scale * std::cos(a), s = scale * std::sin(a);
-    return {{c, -s, tx, s, c, ty, 0, 0, 1}};
+    camera_motion m;
+    m.h = {c, -s, tx, s, c, ty, 0, 0, 1};
+    return m;
   }
 
   /// A similarity about a centre: points near `centre` move by `shift` after the scale and
@@ -50,9 +57,11 @@ struct camera_motion {
     return {(h[0] * p.x() + h[1] * p.y() + h[2]) / w, (h[3] * p.x() + h[4] * p.y() + h[5]) / w};
   }
 
-  /// The composition: first `first`, then this.
+  /// The composition: first `first`, then this (their scales' uncertainties added in
+  /// quadrature, as independent errors).
   [[nodiscard]] camera_motion after(const camera_motion& first) const noexcept {
     camera_motion out;
+    out.scale_uncertainty = std::hypot(scale_uncertainty, first.scale_uncertainty);
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c) {
         float sum = 0;
@@ -63,12 +72,14 @@ struct camera_motion {
     return out;
   }
 
-  /// Every entry finite, and the map invertible and not folding the picture over (the upper
-  /// 2×2 block's determinant positive, the projective part not sending a pixel to infinity
-  /// near the origin): a motion a camera can make.
+  /// Every entry finite, the scale's uncertainty finite and not negative, and the map
+  /// invertible and not folding the picture over (the upper 2×2 block's determinant positive,
+  /// the projective part not sending a pixel to infinity near the origin): a motion a camera
+  /// can make.
   [[nodiscard]] bool valid() const noexcept {
     for (const float v : h)
       if (!std::isfinite(v)) return false;
+    if (!(scale_uncertainty >= 0 && std::isfinite(scale_uncertainty))) return false;
     const float det2 = h[0] * h[4] - h[1] * h[3];
     return det2 > 0 && std::isfinite(det2) && h[8] > 0;
   }

@@ -3,8 +3,9 @@
 /// The camera's motion between frames estimated from the masks alone, for when no visual
 /// odometry gives it: the junctions and ends of each frame's skeleton graph (from `find_perch`'s
 /// result) are keypoints, matched between frames under a 2-D similarity found by RANSAC and
-/// refined by least squares over its inliers. A mask's flicker adds or removes a few keypoints;
-/// the consensus ignores them. Fixed capacity, no allocation, deterministic.
+/// refined by least squares over its inliers, which also say how well its scale is known. A
+/// mask's flicker adds or removes a few keypoints; the consensus ignores them. Fixed capacity,
+/// no allocation, deterministic.
 #pragma once
 
 #include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
@@ -41,7 +42,10 @@ struct motion_estimate_options {
 
 /// What `motion_estimator::update` found.
 struct motion_estimate {
-  camera_motion motion{};   ///< previous frame's pixels → this frame's (identity when not found)
+  /// Previous frame's pixels → this frame's, with its scale's uncertainty from the keypoints'
+  /// residuals; when not found the identity, its scale uncertain by `max_scale_step` − 1 (any
+  /// zoom the search allows).
+  camera_motion motion{};
   bool estimated = false;   ///< a motion was found and trusted
   std::uint32_t keypoints = 0;  ///< this frame's keypoints
   std::uint32_t inliers = 0;    ///< keypoints that agree with the motion
@@ -85,6 +89,7 @@ class motion_estimator {
       out = estimate();
       out.keypoints = static_cast<std::uint32_t>(current_count_);
     }
+    if (!out.estimated) out.motion.scale_uncertainty = unknown_scale();
     previous_ = current_;
     previous_count_ = current_count_;
     return out;
@@ -108,16 +113,24 @@ class motion_estimator {
   };
 
   /// The graph's junctions and ends in input pixels; the widest `max_keypoints` when there are
-  /// more (thick limbs' junctions are the steadiest).
+  /// more (thick limbs' junctions are the steadiest). An end within its radius and
+  /// `border_px` of the frame's edge is left out: it is where the frame cuts a limb, and it
+  /// slides along the limb as the camera moves instead of moving with the tree (as the picture
+  /// grows those ends stay on the edge and pull the scale toward 1).
   static void collect(const perch_result& frame, std::array<keypoint, max_keypoints>& out,
                       std::size_t& count) noexcept {
     count = 0;
     const pixel offset = frame.mask.offset;
+    const float right = static_cast<float>(frame.width - 1);
+    const float bottom = static_cast<float>(frame.height - 1);
     frame.graph.for_each_node([&](const skeleton_node& n) {
       if (n.kind != node_kind::junction && n.kind != node_kind::end) return;
       const keypoint k{frame.mask.to_input(point2f(static_cast<float>(n.position.x + offset.x),
                                                    static_cast<float>(n.position.y + offset.y))),
                        n.radius_px / frame.mask.factor, n.kind == node_kind::junction};
+      const float edge =
+          std::min(std::min(k.p.x(), right - k.p.x()), std::min(k.p.y(), bottom - k.p.y()));
+      if (!k.junction && edge <= k.radius + border_px) return;
       if (count < max_keypoints) {
         out[count++] = k;
         return;
@@ -265,8 +278,36 @@ class motion_estimator {
       return out;
     }
     out.inliers = best_inliers;
+    out.motion.scale_uncertainty = scale_uncertainty(best);
     prior_ = best;
     return out;
+  }
+
+  /// The scale's uncertainty when the keypoints do not tell it: any zoom the search allows.
+  [[nodiscard]] float unknown_scale() const noexcept {
+    const float range = options_.max_scale_step - 1.0f;
+    return range > 0 ? std::min(range, 1.0f) : 1.0f;
+  }
+
+  /// The relative standard uncertainty of `s`'s scale from its inliers' residuals: the
+  /// least-squares similarity's coefficients have variance σ²/Σ|p − p̄|², σ² the residual
+  /// variance per coordinate over 2n − 4 degrees of freedom (Umeyama 1991; the linear model's
+  /// covariance σ²(AᵀA)⁻¹). The inliers' residuals only, so somewhat less than the error (on
+  /// the arcs sequences the scale's error is 1.3 times the stated value, RMS).
+  [[nodiscard]] float scale_uncertainty(const similarity& s) noexcept {
+    float residual = 0;
+    const std::uint32_t n = score(s, residual, true);
+    if (n < 3) return unknown_scale();
+    point2f mean = point2f::Zero();
+    for (std::uint32_t k = 0; k < n; ++k) mean += previous_[inlier_pairs_[k].prev].p;
+    mean /= static_cast<float>(n);
+    float spread = 0;
+    for (std::uint32_t k = 0; k < n; ++k)
+      spread += (previous_[inlier_pairs_[k].prev].p - mean).squaredNorm();
+    const float scale = std::hypot(s.ar, s.ai);
+    if (!(spread > 0 && scale > 0)) return unknown_scale();
+    const float variance = residual / static_cast<float>(2 * n - 4);
+    return std::min(std::sqrt(variance / spread) / scale, 1.0f);
   }
 
   struct hypothesis {
@@ -296,6 +337,9 @@ class motion_estimator {
   }
 
   static constexpr std::size_t shortlist_size = 8;
+
+  /// How close to the frame's edge, beyond its radius, an end is taken for a cut limb, px.
+  static constexpr float border_px = 2.0f;
 
   /// The share of a keypoint's distance from a hypothesis's anchor its tolerance grows by: a
   /// zoom or roll 6 % (3.4°) off the prior's still finds its inliers.
