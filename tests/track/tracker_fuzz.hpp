@@ -4,8 +4,9 @@
 // options (some invalid), then frame after frame an operation: a result with garbage sites and
 // near misses (huge, NaN and infinite measures, any rule name and miss), a motion (NaN, inf,
 // huge, folding, projective), another frame size, no tree, a missing frame, a failed analysis,
-// a reset. After every call the result must hold the tracker's invariants; a violation calls
-// `report` (the fuzzer traps, the test reports).
+// a reset; half the inputs with a camera, so tracks carry depths (the motion's and the frame's
+// scale uncertainty fuzzed too). After every call the result must hold the tracker's
+// invariants; a violation calls `report` (the fuzzer traps, the test reports).
 #pragma once
 
 #include <cmath>
@@ -81,6 +82,8 @@ void check_result(const perch_tracker& tracker, const tracking_result& r, Fail&&
         !std::isfinite(t.diameter_mm))
       fail("a track's smoothed measure is not finite");
     if (t.has_position && !t.position_m.allFinite()) fail("a track's metric position is not finite");
+    if (t.has_position && !(t.depth_uncertainty >= 0 && t.depth_uncertainty <= 1))
+      fail("a track's depth uncertainty is not in [0, 1]");
     if (t.doubtful) ++doubtful;
   }
   if (doubtful > 1) fail("more than one doubtful track");
@@ -144,6 +147,7 @@ struct fuzz_frame {
     result.width = width;
     result.height = height;
     result.mm_per_px = in.mostly(10.0f);
+    result.scale_uncertainty = in.mostly(0.1f);
     result.sites = sites;
     result.near_misses = misses;
     const std::uint8_t outcome = in.byte() % 16;
@@ -170,25 +174,30 @@ struct fuzz_frame {
     w.claw_diameter_mm = in.mostly(150.0f);
     w.mm_per_px = in.mostly(10.0f);
     w.has_position = in.byte() % 2 == 0;
+    // Camera-frame points mostly within 10 m, now and then hostile (NaN, behind the camera,
+    // huge, tiny): a tracker with a camera carries and measures their depth.
     w.position_m = point3f(in.mostly(5.0f), in.mostly(5.0f), in.mostly(10.0f));
   }
 };
 
-/// A motion from the bytes: identity, a plausible similarity, or a hostile homography.
+/// A motion from the bytes: identity, a plausible similarity, or a hostile homography; its
+/// scale's uncertainty none, plausible or hostile.
 inline camera_motion fuzz_motion(byte_reader& in) {
   const std::uint8_t kind = in.byte() % 8;
   if (kind < 3) return camera_motion::identity();
+  camera_motion m;
   switch (kind % 2) {
     case 0:
-      return camera_motion::similarity_about({in.mostly(640.0f), in.mostly(480.0f)},
-                                             0.9f + in.mostly(0.2f), in.mostly(20.0f) - 10.0f,
-                                             {in.mostly(40.0f) - 20.0f, in.mostly(40.0f) - 20.0f});
-    default: {
-      camera_motion m;
+      m = camera_motion::similarity_about({in.mostly(640.0f), in.mostly(480.0f)},
+                                          0.9f + in.mostly(0.2f), in.mostly(20.0f) - 10.0f,
+                                          {in.mostly(40.0f) - 20.0f, in.mostly(40.0f) - 20.0f});
+      break;
+    default:
       for (float& v : m.h) v = in.hostile(2.0f);
-      return m;
-    }
+      break;
   }
+  if (kind >= 6) m.scale_uncertainty = in.mostly(0.05f);
+  return m;
 }
 
 /// Tracker options from the bytes: the defaults, tightened or loosened, now and then invalid.
@@ -202,6 +211,7 @@ inline tracker_options fuzz_options(byte_reader& in) {
     o.switch_margin = in.hostile(0.2f);
     o.along_gain = in.hostile(1.0f);
     o.across_gate_windows = in.hostile(1.0f);
+    o.depth_drift = in.hostile(0.01f);
     return o;
   }
   o.confirm_frames = 1 + in.byte() % 5;
@@ -211,6 +221,7 @@ inline tracker_options fuzz_options(byte_reader& in) {
   o.doubtful_frames = 1 + in.byte() % 16;
   o.switch_frames = 1 + in.byte() % 10;
   o.switch_margin = in.mostly(0.2f);
+  o.depth_drift = in.mostly(0.01f);
   return o;
 }
 
@@ -219,7 +230,10 @@ template <class Fail>
 void run_tracker_fuzz(const std::uint8_t* data, std::size_t size, Fail&& report) {
   byte_reader in(data, size);
   static perch_tracker tracker;  // static: big, and the fuzzer runs many inputs
-  tracker = perch_tracker(fuzz_options(in));
+  const tracker_options options = fuzz_options(in);
+  // Half the inputs with a camera, so the metric path (depth carried and measured) runs too.
+  tracker = in.byte() % 2 == 0 ? perch_tracker(options)
+                               : perch_tracker(options, pinhole{500, 500, 320, 240});
   const fuzz_scene scene(in);
   int width = 640, height = 480;
   for (int step = 0; step < 200 && !in.done(); ++step) {
