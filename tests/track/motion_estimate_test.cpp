@@ -28,6 +28,12 @@ float disagreement(const perch::camera_motion& a, const perch::camera_motion& b,
   return worst;
 }
 
+/// `find_perch` on a sequence's frame at its true scale.
+perch::result<perch::perch_result> analyse(const st::sequence_frame& frame, perch::workspace& ws) {
+  return perch::find_perch(frame.mask.view(), perch::tendon_claw{},
+                           perch::fixed_scale{frame.tree.mm_per_px}, ws);
+}
+
 }  // namespace
 
 TEST_CASE("the estimated motion between approach frames matches the true one") {
@@ -40,8 +46,7 @@ TEST_CASE("the estimated motion between approach frames matches the true one") {
   int estimated = 0;
   for (int f = 10; f < 16; ++f) {
     const st::sequence_frame frame = seq.frame(f);
-    const auto found = perch::find_perch(frame.mask.view(), perch::tendon_claw{},
-                                         perch::fixed_scale{frame.tree.mm_per_px}, ws);
+    const auto found = analyse(frame, ws);
     REQUIRE(found);
     perch::test::allocation_scope scope;
     const perch::motion_estimate m = estimator.update(*found);
@@ -75,8 +80,7 @@ TEST_CASE("the estimated zoom of an approach is not biased toward 1, and states 
   int estimated = 0;
   for (int f = 0; f < 30; ++f) {
     const st::sequence_frame frame = seq.frame(f);
-    const auto found = perch::find_perch(frame.mask.view(), perch::tendon_claw{},
-                                         perch::fixed_scale{frame.tree.mm_per_px}, ws);
+    const auto found = analyse(frame, ws);
     REQUIRE(found);
     const perch::motion_estimate m = estimator.update(*found);
     CHECK(m.motion.valid());
