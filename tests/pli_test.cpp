@@ -478,7 +478,8 @@ TEST_CASE("find_perch: stage timings come from the caller's clock") {
   auto found = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws, options);
   REQUIRE(found);
   CHECK(found->timing.distance_ms == doctest::Approx(1.0f));
-  CHECK(found->timing.total_ms == doctest::Approx(7.0f));
+  CHECK(found->timing.bridge_ms == doctest::Approx(1.0f));  // one lap, nothing to bridge
+  CHECK(found->timing.total_ms == doctest::Approx(8.0f));
   options.clock = nullptr;
   auto untimed = perch::find_perch(mask.view(), ws, options);
   REQUIRE(untimed);

@@ -613,6 +613,36 @@ TEST_CASE("bias_radii and shift_outline: limbs drawn thicker or thinner, the res
   CHECK(narrower.mask(56, 2) == 0);  // a whole-pixel erosion takes the lone pixel too
 }
 
+TEST_CASE("cut_gaps: bands cut across limbs, nothing inside another limb, the truth kept") {
+  // A trunk 12 px thick and a child 8 px thick leaving it level at y = 50.
+  auto make = []() {
+    return hand_tree(120, 100, 1.0f,
+                     {straight_limb(Vec(30, 99), Vec(30, 0), 12.0f, 12.0f),
+                      straight_limb(Vec(30, 50), Vec(110, 50), 8.0f, 8.0f, limb_kind::limb, 0)});
+  };
+  const synthetic_tree drawn = make();
+  synthetic_tree none = make();
+  perch::support::cut_gaps(none, 0, 7u);
+  CHECK(std::equal(none.mask.data(), none.mask.data() + 120 * 100, drawn.mask.data()));
+  synthetic_tree cut = make(), again = make();
+  perch::support::cut_gaps(cut, 6, 7u);
+  perch::support::cut_gaps(again, 6, 7u);
+  CHECK(std::equal(cut.mask.data(), cut.mask.data() + 120 * 100, again.mask.data()));  // seeded
+  int removed = 0;
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 120; ++x) {
+      if (drawn.mask(x, y) == 0 || cut.mask(x, y) != 0) continue;
+      ++removed;
+      const Vec p(static_cast<float>(x), static_cast<float>(y));
+      const float to_trunk = perch::support::detail::surface_distance(drawn.limbs[0], p);
+      const float to_child = perch::support::detail::surface_distance(drawn.limbs[1], p);
+      CHECK_FALSE((to_trunk <= 0.5f && to_child <= 0.5f));  // the junction is both limbs: kept
+    }
+  CHECK(removed > 0);
+  CHECK(cut.limbs[1].centreline == drawn.limbs[1].centreline);  // the truth stays
+  CHECK(cut.limbs[1].parent == 0);
+}
+
 TEST_CASE("perch_truth: clearance is 70 mm from every other limb's surface at least 20 mm thick") {
   {
     const synthetic_tree tree = two_level_limbs(69.0f, 40.0f);

@@ -29,6 +29,7 @@ constexpr rgb miss_colour{240, 70, 60};
 constexpr rgb pruned_colour{150, 150, 150};
 constexpr rgb end_colour{250, 140, 20};
 constexpr rgb trunk_colour{40, 210, 230};
+constexpr rgb bridge_colour{170, 110, 255};
 
 constexpr rgb tentative_colour{110, 170, 255};
 constexpr rgb lost_colour{150, 150, 150};
@@ -362,7 +363,13 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
     draw_envelope(canvas, f, r.sites.front().window, needed_mm(r.sites.front().window), envelope_colour,
                   std::max(2.0f, 0.6f * stroke), 1.0f);
 
-  // 4. Graph nodes.
+  // 4. Bridged gaps (input pixels), then the graph's nodes.
+  for (const perch_bridge& b : r.bridges) {
+    const draw_point from{static_cast<float>(b.from.x), static_cast<float>(b.from.y)};
+    const draw_point to{static_cast<float>(b.to.x), static_cast<float>(b.to.y)};
+    support::draw_line(canvas, from, to, bridge_colour, 2.0f * stroke);
+    for (const draw_point& p : {from, to}) support::fill_circle(canvas, p, 1.2f * stroke, bridge_colour);
+  }
   {
     r.graph.for_each_node([&](const skeleton_node& n) {
       const draw_point p = f.at(n.position);
@@ -403,7 +410,7 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
 
   const std::string ramp = format("diameter 0-%.0f mm", static_cast<double>(diameter_top_mm));
   const std::string envelope_label = format("clearance: r + %.0f mm", static_cast<double>(envelope.margin_mm));
-  const support::legend_entry entries[] = {
+  std::vector<support::legend_entry> shown = {
       {.label = ramp, .marker = support::legend_marker::ramp},
       {.label = "pruned skeleton", .colour = pruned_colour, .marker = support::legend_marker::line, .alpha = 0.6f},
       {.label = "junction", .colour = colours::white, .marker = support::legend_marker::dot},
@@ -413,12 +420,12 @@ image<png::rgb8> annotate(const perch_result& r, const platform_geometry& geomet
       {.label = "near misses", .colour = miss_colour, .marker = support::legend_marker::line, .alpha = 0.45f},
       {.label = "perch: claw x diameter", .colour = perch_colour, .marker = support::legend_marker::outline},
       {.label = "heading: trunk side to tip", .colour = perch_colour, .marker = support::legend_marker::line},
-      {.label = envelope_label,
-       .colour = envelope_colour, .marker = support::legend_marker::outline},
   };
-  // The envelope's entry only when the platform keeps a clearance.
-  const std::span<const support::legend_entry> shown(entries, envelope.margin_mm >= 0 ? std::size(entries)
-                                                                                         : std::size(entries) - 1);
+  // The envelope's entry only when the platform keeps a clearance, the bridges' when any.
+  if (envelope.margin_mm >= 0)
+    shown.push_back({.label = envelope_label, .colour = envelope_colour, .marker = support::legend_marker::outline});
+  if (!r.bridges.empty())
+    shown.push_back({.label = "bridged gap", .colour = bridge_colour, .marker = support::legend_marker::line});
   std::optional<draw_point> chosen;
   if (!r.sites.empty())
     chosen = draw_point{static_cast<float>(r.sites.front().window.centre.x),

@@ -452,6 +452,13 @@ std::vector<std::string> split_knobs(const std::string& kind) {
   return out;
 }
 
+/// The seed of a tree's segmenter gaps (--gaps): FNV-1a of its name, the same on every host.
+std::uint32_t gap_seed(const std::string& name) {
+  std::uint32_t h = 2166136261u;
+  for (const char c : name) h = (h ^ static_cast<std::uint8_t>(c)) * 16777619u;
+  return h;
+}
+
 void print_row(const tree_record& r, int width, int kind_width) {
   std::string site = r.site ? fmt("(%.0f, %.0f)", static_cast<double>(r.x), static_cast<double>(r.y)) : "-";
   std::string what = r.detail;
@@ -491,6 +498,8 @@ int run_eval(int argc, const char* const* argv) {
                                         "over- (PX > 0) or under-segments (PX < 0); the truth stays", "0");
   args.add_option("radius-bias", "PX", "draw every limb with its radius PX larger first, sub-pixel too (-2 to 2):\n"
                                        "a generator that rasterises otherwise (0.5: any covered pixel counts)", "0");
+  args.add_option("gaps", "N", "cut N segmenter-like gaps (1-8 px) into each tree first: every other one\n"
+                                "across a limb, the others at a child's base; the truth stays", "0");
   args.add_option("rows", "WHICH", "per-tree rows: all, failures or none (default: all for DIR, failures\n"
                                    "for --population)");
   args.add_option("jobs", "N", "worker threads; 0 = all cores", "0", 'j');
@@ -540,6 +549,11 @@ int run_eval(int argc, const char* const* argv) {
   const auto radius_bias = args.get_double("radius-bias", 0.0, -2.0, 2.0);
   if (!radius_bias) {
     report_error("eval", radius_bias.error);
+    return exit_usage;
+  }
+  const auto gaps = args.get_int("gaps", 0, 0, 64);
+  if (!gaps) {
+    report_error("eval", gaps.error);
     return exit_usage;
   }
   const bool population = args.has("population");
@@ -633,6 +647,7 @@ int run_eval(int argc, const char* const* argv) {
           rec.built_without_perch = m.built_without_perch;
           st::bias_radii(m.tree, static_cast<float>(radius_bias.value));
           st::shift_outline(m.tree.mask, outline_bias.value);
+          st::cut_gaps(m.tree, gaps.value, gap_seed(rec.name));
           evaluate(rec, m.tree, spec, config_for(m.tree.mm_per_px), *spaces[worker]);
           progress.tick();
           return rec;
@@ -666,6 +681,7 @@ int run_eval(int argc, const char* const* argv) {
         tree.mm_per_px = truth.mm_per_px;
         st::bias_radii(tree, static_cast<float>(radius_bias.value));
         st::shift_outline(tree.mask, outline_bias.value);
+        st::cut_gaps(tree, gaps.value, gap_seed(rec.name));
         evaluate(rec, tree, spec, config_for(truth.mm_per_px), *spaces[worker]);
         progress.tick();
         return rec;

@@ -75,6 +75,11 @@ void add_pipeline_options(support::arg_parser& args, depth_option depth) {
   args.add_option("top", "K", "number of ranked candidates", "5");
   args.add_option("downscale", "F", "analyse the mask reduced by F in (0, 1]", "1");
   args.add_option("max-hole-px", "N", "fill holes of at most N pixels first (0 keeps every hole)", "4");
+  char gap_default[16];
+  std::snprintf(gap_default, sizeof gap_default, "%g", static_cast<double>(bridge_options{}.max_gap_px));
+  args.add_option("max-gap-px", "PX",
+                  "bridge gaps of at most PX pixels (and a diameter) between aligned ends of a limb\n"
+                  "or an end and the limb it was cut from, first (0 bridges none)", gap_default);
   args.add_flag("no-timing", "report every timing as 0 (byte-identical output across runs)");
 }
 
@@ -83,7 +88,8 @@ namespace {
 /// The option that gives depth: "depth" or "depth-dir".
 std::string depth_option_name(depth_option depth) { return depth == depth_option::per_frame ? "depth-dir" : "depth"; }
 
-/// The options after the scale: --roll-deg, --top, --downscale, --max-hole-px, --no-timing.
+/// The options after the scale: --roll-deg, --top, --downscale, --max-hole-px, --max-gap-px,
+/// --no-timing.
 std::string read_common_options(const support::arg_parser& args, run_config& config) {
   const auto roll = args.get_double("roll-deg", 0.0, -360.0, 360.0);
   if (!roll) return roll.error;
@@ -97,6 +103,9 @@ std::string read_common_options(const support::arg_parser& args, run_config& con
   const auto holes = args.get_int("max-hole-px", 4, 0, 1 << 30);
   if (!holes) return holes.error;
   config.max_hole_px = static_cast<std::int32_t>(holes.value);
+  const auto gap = args.get_double("max-gap-px", static_cast<double>(bridge_options{}.max_gap_px), 0.0, 1e4);
+  if (!gap) return gap.error;
+  config.max_gap_px = static_cast<float>(gap.value);
   config.timing = !args.flag("no-timing");
   return {};
 }
@@ -182,6 +191,8 @@ perch_options perch_options_of(const run_config& config) {
   perch_options options;
   options.downscale = config.downscale;
   options.max_hole_px = config.max_hole_px;
+  options.bridging.enabled = config.max_gap_px > 0;
+  options.bridging.max_gap_px = config.max_gap_px;
   options.camera = attitude{config.roll_deg};
   options.ranking.top_k = config.top_k;
   return options;

@@ -161,11 +161,21 @@ std::string detect_json(const perch_result& r, const document_source& source, co
   json.member("components", r.graph.component_count());
   json.member("holes_filled", r.holes.filled);
   json.end_object();
+  json.key("bridges").begin_array();
+  for (const perch_bridge& b : r.bridges) {
+    json.begin_object(json_layout::single_line);
+    write_pixel(json, "from", b.from);
+    write_pixel(json, "to", b.to);
+    json.member("gap_px", tidy(b.gap_px)).member("kind", to_string(b.kind));
+    json.end_object();
+  }
+  json.end_array();
   const stage_timings& t = r.timing;
   json.key("timing_ms").begin_object(json_layout::single_line);
   json.member("prepare", tidy(t.prepare_ms)).member("distance", tidy(t.distance_ms));
   json.member("skeleton", tidy(t.skeleton_ms)).member("graph", tidy(t.graph_ms));
-  json.member("prune", tidy(t.prune_ms)).member("windows", tidy(t.windows_ms));
+  json.member("prune", tidy(t.prune_ms)).member("bridge", tidy(t.bridge_ms));
+  json.member("windows", tidy(t.windows_ms));
   json.member("ranking", tidy(t.ranking_ms)).member("total", tidy(t.total_ms));
   json.end_object();
   json.member("cold", r.cold);

@@ -122,6 +122,7 @@ struct run_config {
   std::size_t top_k = 5;
   float downscale = 1.0f;
   std::int32_t max_hole_px = 4;  ///< --max-hole-px
+  float max_gap_px = bridge_options{}.max_gap_px;  ///< --max-gap-px (0: no bridging)
   bool timing = true;  ///< false (--no-timing): timing_ms all 0, output byte-deterministic
 };
 
@@ -130,7 +131,7 @@ struct run_config {
 enum class depth_option : std::uint8_t { offered, per_frame, not_offered };
 
 /// Declares --platform, --mm-per-px, --trunk-mm, [--depth or --depth-dir, --fx --fy --cx --cy],
-/// --roll-deg, --top, --downscale, --max-hole-px, --no-timing.
+/// --roll-deg, --top, --downscale, --max-hole-px, --max-gap-px, --no-timing.
 void add_pipeline_options(support::arg_parser& args, depth_option depth);
 
 /// Reads the options declared by `add_pipeline_options` (and loads --depth; checks that
@@ -138,7 +139,7 @@ void add_pipeline_options(support::arg_parser& args, depth_option depth);
 [[nodiscard]] std::string read_pipeline_options(const support::arg_parser& args, depth_option depth,
                                                 run_config& config);
 
-/// The `perch_options` of `config` (downscale, holes, roll, top-k; no clock).
+/// The `perch_options` of `config` (downscale, holes, gaps, roll, top-k; no clock).
 [[nodiscard]] perch_options perch_options_of(const run_config& config);
 
 /// `find_perch` on `mask` with `config`'s options and scale.

@@ -15,6 +15,7 @@
 #include <string_view>
 
 #include "perch/analysis.hpp"
+#include "perch/bridge.hpp"
 #include "perch/core.hpp"
 #include "perch/distance.hpp"
 #include "perch/graph.hpp"
@@ -37,6 +38,9 @@ struct stage_timings {
   float skeleton_ms = 0;  ///< skeletonisation
   float graph_ms = 0;     ///< pixel kinds, tracing, adjacency list
   float prune_ms = 0;     ///< scale, weighting (eq. 1) and pruning
+  /// Gaps found and bridged; the stages from the distance transform to pruning, run again on
+  /// the bridged mask, add their time to their own.
+  float bridge_ms = 0;
   float windows_ms = 0;   ///< windows and their measures
   float ranking_ms = 0;   ///< constraints, scorer (eq. 3), ranking
   float total_ms = 0;
@@ -64,6 +68,10 @@ struct perch_options {
   /// whose middle falls on one moves it to the nearest tree pixel of its centreline, and a
   /// window with none (it runs over filled speckle only) is dropped.
   std::int32_t max_hole_px = 4;
+  /// Small gaps a segmenter left in a limb, bridged in perch's copy of the mask before the
+  /// analysis (`find_gap_bridges`; `perch_result::bridges` lists them). Their lengths are in
+  /// input pixels.
+  bridge_options bridging{};
   clock_ns_fn clock = nullptr;         ///< stage timings when given
 
   [[nodiscard]] status validate() const noexcept {
@@ -75,6 +83,7 @@ struct perch_options {
       return fail(errc::invalid_parameter, "perch_options.ranking");
     PERCH_TRY(limits.validate());
     if (max_hole_px < 0) return fail(errc::invalid_parameter, "perch_options.max_hole_px");
+    PERCH_TRY(bridging.validate());
     if (auto pruning_ok = pruning.validate(); !pruning_ok) return pruning_ok;
     if (pruning.diameter_min_mm != prune_options{}.diameter_min_mm ||
         pruning.diameter_max_mm != prune_options{}.diameter_max_mm)
@@ -105,6 +114,14 @@ enum class perch_outcome : std::uint8_t {
   return "unknown";
 }
 
+/// A gap `find_perch` bridged (`perch_options::bridging`), in input pixels.
+struct perch_bridge {
+  pixel from{};  ///< the end whose axis the bridge carries on, where its piece of mask stops
+  pixel to{};    ///< the other end (end to end), or where the end's axis meets the body
+  float gap_px = 0;  ///< background between the two outlines along the bridge
+  bridge_kind kind = bridge_kind::end_to_end;
+};
+
 /// Everything `find_perch` found. Spans and the graph live in the workspace: valid until the
 /// workspace's next `reset()` (the next `find_perch` call on it).
 ///
@@ -129,13 +146,16 @@ struct perch_result {
   float scale_uncertainty = 0;  ///< its relative uncertainty: every rule in mm held at both ends
   std::string_view platform{};  ///< the platform's name
   int width = 0, height = 0;    ///< input image size
-  prepared_mask mask{};                       ///< the analysed (cropped, reduced) mask
+  prepared_mask mask{};  ///< the analysed mask: cropped, reduced, pinholes filled, gaps bridged
   image_view<const std::uint32_t> dist2{};    ///< squared distances on the tree pixels of
                                               ///< `mask.pixels` (others not written), local
   image_view<const std::uint8_t> skeleton{};  ///< skeleton (1/0), local coordinates
   skeleton_graph graph{};                     ///< after pruning, local coordinates
   std::span<const skeleton_limb> limbs{};     ///< the graph's edges chained into limbs
   hole_fill_report holes{};                   ///< pinholes filled (`max_hole_px`)
+  /// Gaps bridged before the analysis, shortest first (`perch_options::bridging`): each drawn
+  /// into `mask`; no window runs across one.
+  std::span<const perch_bridge> bridges{};
   prune_report pruning{};                     ///< what pruning removed
   stage_timings timing{};
   /// This call took new memory from the workspace's upstream (a first call, or a mask that
@@ -216,6 +236,15 @@ template <BinaryView Mask>
 }
 
 
+/// `before[i]`: how many of `points[0, i)` lie on one of `bridges` (`before` holds at least
+/// `points.size() + 1`).
+inline void count_bridged_points(std::span<const pixel> points, std::span<const gap_bridge> bridges,
+                                 std::span<std::uint32_t> before) noexcept {
+  before[0] = 0;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    before[i + 1] = before[i] + (on_gap_bridge(to_point(points[i]), bridges) ? 1u : 0u);
+}
+
 /// What the stages of `find_perch` hand on to one another (views and spans into the workspace).
 template <class Scale>
 struct pipeline_state {
@@ -234,14 +263,48 @@ struct pipeline_state {
   limb_obstacles obstacles{};
   limb_clearance clearance{};         ///< reads `obstacles`: the state must not move
   bounded_vector<window_measures> windows{};
+  bounded_vector<gap_bridge> bridges{};  ///< in local coordinates, room taken by `prepare_stage`
 };
+
+/// The input pixel of a point of the analysed frame (clamped: a reduced pixel of an odd-sized
+/// input's last row or column is centred half a pixel past its edge).
+[[nodiscard]] inline pixel input_pixel(const perch_result& out, point2f analysed) noexcept {
+  const point2f c = out.mask.to_input(analysed);
+  return pixel{std::clamp<std::int32_t>(static_cast<std::int32_t>(std::lround(c.x())), 0, out.width - 1),
+               std::clamp<std::int32_t>(static_cast<std::int32_t>(std::lround(c.y())), 0, out.height - 1)};
+}
+
+/// Fills the analysed mask's holes of at most `options.max_hole_px` input pixels (found from
+/// its runs, which are joined across them: a speckled mask with too many runs to list keeps
+/// its holes), then holds its tree pixels to `options.limits` (the skeletoniser's memory grows
+/// with them).
+template <class Scale>
+[[nodiscard]] status fill_pinholes(const perch_options& options, workspace& ws, perch_result& out,
+                                   pipeline_state<Scale>& s) noexcept {
+  const double factor2 =
+      static_cast<double>(options.downscale) * static_cast<double>(options.downscale);
+  const auto hole_px =
+      static_cast<std::int64_t>(static_cast<double>(options.max_hole_px) * factor2);
+  if (hole_px > 0 && s.runs.describes(s.local)) {
+    auto filled = fill_small_holes(s.local, s.runs, hole_px, ws);
+    PERCH_TRY(all_ok(filled));
+    out.holes.filled += filled->filled;
+    out.holes.filled_pixels += filled->filled_pixels;
+    out.mask.tree_pixels += filled->filled_pixels;
+  }
+  const auto tree = static_cast<std::size_t>(out.mask.tree_pixels);
+  if (options.limits.tree_pixels != 0 && tree > options.limits.tree_pixels)
+    return fail(errc::capacity_exceeded, "perch_options.limits.tree_pixels", tree);
+  return {};
+}
 
 /// Stage 1: the tree's bounding box, binarised, reduced, with a background border; its runs,
 /// found once for the distance transform, the skeleton and its graph (listed while the box is
 /// copied, or by a scan of the reduced copy; a speckled mask with more runs than `max_runs` is
 /// scanned by each instead); the scale policy for it; and pinholes filled (their runs joined),
-/// so that no skeleton loop splits a branch around one. A box or tree beyond
-/// `options.limits` is refused before it takes memory.
+/// so that no skeleton loop splits a branch around one; and room for the bridges of gaps
+/// (`options.bridging.max_bridges`), which outlives a rerun of the stages after it. A box or
+/// tree beyond `options.limits` is refused before it takes memory.
 template <BinaryView Mask, ScalePolicy Scale>
 [[nodiscard]] status prepare_stage(const Mask& mask, const Scale& scale, const perch_options& options,
                                    workspace& ws, perch_result& out,
@@ -262,21 +325,11 @@ template <BinaryView Mask, ScalePolicy Scale>
   s.context = {prepared->analysed_width, prepared->analysed_height, 0, {}, prepared->offset, {}};
   PERCH_TRY(s.scaled->validate(s.context));
   s.runs = prepared->runs;
-  // Holes are found from the runs: a speckled mask with too many runs to list keeps its holes.
-  const double factor2 =
-      static_cast<double>(options.downscale) * static_cast<double>(options.downscale);
-  const auto hole_px =
-      static_cast<std::int64_t>(static_cast<double>(options.max_hole_px) * factor2);
-  if (hole_px > 0 && s.runs.describes(s.local)) {
-    auto filled = fill_small_holes(s.local, s.runs, hole_px, ws);
-    PERCH_TRY(all_ok(filled));
-    out.holes = *filled;
-    out.mask.tree_pixels += filled->filled_pixels;
-  }
-  // The skeletoniser's memory grows with the tree's pixels.
-  const auto tree = static_cast<std::size_t>(out.mask.tree_pixels);
-  if (options.limits.tree_pixels != 0 && tree > options.limits.tree_pixels)
-    return fail(errc::capacity_exceeded, "perch_options.limits.tree_pixels", tree);
+  PERCH_TRY(fill_pinholes(options, ws, out, s));
+  auto bridges = bounded_vector<gap_bridge>::make(
+      ws, options.bridging.enabled ? options.bridging.max_bridges : 0);
+  PERCH_TRY(all_ok(bridges));
+  s.bridges = *bridges;
   return {};
 }
 
@@ -386,7 +439,43 @@ template <Platform P, class Scale>
   return {};
 }
 
-/// Stage 6: limbs (edges chained through the junctions where only side twigs leave), each
+/// Stage 6: small gaps a segmenter left (`find_gap_bridges` on the pruned graph: two aligned
+/// ends of a limb, an end cut off the limb it grows from), each drawn into the analysed mask
+/// and reported in input pixels. When there are any, the workspace goes back to `unbridged`
+/// (where the distance stage began), the bridged mask's runs are listed anew and its new
+/// pinholes filled: true, and the stages from the distance transform on run again on it.
+/// Gap lengths are in input pixels in `options.bridging`, in analysed ones here.
+template <class Scale>
+[[nodiscard]] result<bool> bridge_stage(const perch_options& options,
+                                        workspace::checkpoint unbridged, workspace& ws,
+                                        perch_result& out, pipeline_state<Scale>& s) noexcept {
+  if (s.bridges.capacity() == 0) return false;
+  PERCH_TRY(find_gap_bridges(image_view<const std::uint8_t>(s.local),
+                             image_view<const std::uint32_t>(s.dist), s.runs, out.graph,
+                             options.bridging.max_gap_px * options.downscale, options.bridging,
+                             options.limbs, ws, s.bridges));
+  if (s.bridges.empty()) return false;
+  ws.rewind(unbridged);
+  out.mask.tree_pixels += draw_gap_bridges(s.local, s.bridges.items());
+  const int w = s.local.width(), h = s.local.height();
+  auto runs = find_row_runs(image_view<const std::uint8_t>(s.local), ws, max_runs(w, h));
+  if (!runs && runs.error().code != errc::capacity_exceeded) return unexpected{runs.error()};
+  s.runs = runs ? *runs : row_runs{};  // too many to list: the kernels scan the mask
+  out.mask.runs = s.runs;
+  PERCH_TRY(fill_pinholes(options, ws, out, s));
+  auto reported = ws.allocate<perch_bridge>(s.bridges.size());
+  PERCH_TRY(all_ok(reported));
+  const point2f offset = to_point(out.mask.offset);  // local to analysed frame
+  for (std::size_t i = 0; i < s.bridges.size(); ++i) {
+    const gap_bridge& b = s.bridges[i];
+    (*reported)[i] = {input_pixel(out, b.from + offset), input_pixel(out, b.to + offset),
+                      b.gap_px / options.downscale, b.kind};
+  }
+  out.bridges = *reported;
+  return true;
+}
+
+/// Stage 7: limbs (edges chained through the junctions where only side twigs leave), each
 /// oriented from the end nearer the trunk and trimmed to outside its end junctions; and what
 /// surrounds them: the grounded pieces of mask, the other limbs' discs for the clearance.
 template <class Scale>
@@ -430,7 +519,7 @@ template <class Scale>
   return {};
 }
 
-/// Stage 7: windows one drone width long along every limb's stretch, and their measures.
+/// Stage 8: windows one drone width long along every limb's stretch, and their measures.
 /// Capacity: a stretch of n points is at most 1.5·n px long, so it has at most
 /// 1.5·n / stride + 1 windows; `options.limits.windows` caps the total (capacity_exceeded).
 template <BinaryView Mask, Platform P, class Scale>
@@ -456,7 +545,12 @@ template <BinaryView Mask, Platform P, class Scale>
   auto windows = bounded_vector<window_measures>::make(ws, std::min(bound, options.limits.windows));
   auto window_scratch = ws.allocate<float>(window_scratch_floats(longest));
   auto diameters = ws.allocate<float>(longest);
-  PERCH_TRY(all_ok(windows, window_scratch, diameters));
+  // Per limb point, how many before it lie on a bridge: a window must not run across one.
+  std::size_t longest_limb = 0;
+  if (!s.bridges.empty())
+    for (const skeleton_limb& limb : out.limbs) longest_limb = std::max(longest_limb, limb.points.size());
+  auto bridged_before = ws.allocate<std::uint32_t>(s.bridges.empty() ? 0 : longest_limb + 1);
+  PERCH_TRY(all_ok(windows, window_scratch, diameters, bridged_before));
   s.windows = *windows;
   const prepared_mask& m = out.mask;
   for (std::size_t l = 0; l < out.limbs.size(); ++l) {
@@ -480,9 +574,13 @@ template <BinaryView Mask, Platform P, class Scale>
       return fail(errc::capacity_exceeded, "perch_options.limits.windows", measured.error().needed);
     PERCH_TRY(measured);
     out.windows_held = std::max(out.windows_held, static_cast<std::uint32_t>(s.windows.size()));
+    const bool bridged = !s.bridges.empty() && s.windows.size() > before;
+    if (bridged) count_bridged_points(limb.points, s.bridges.items(), *bridged_before);
     std::size_t kept = before;
     for (std::size_t i = before; i < s.windows.size(); ++i) {
       window_measures window = s.windows[i];
+      if (bridged && (*bridged_before)[window.last + 1] != (*bridged_before)[window.first])
+        continue;
       if (out.holes.filled > 0 && options.downscale == 1.0f &&
           !middle_on_tree(mask, limb.points, m.offset, window))
         continue;
@@ -495,9 +593,8 @@ template <BinaryView Mask, Platform P, class Scale>
   return {};
 }
 
-/// Stage 8: the platform's constraints and scorer (eq. 3), the ranked sites, and the sites and
-/// near misses reported in input-image pixels (clamped: a reduced pixel of an odd-sized
-/// input's last row or column is centred half a pixel past the input's edge).
+/// Stage 9: the platform's constraints and scorer (eq. 3), the ranked sites, and the sites and
+/// near misses reported in input-image pixels (`input_pixel`).
 template <Platform P, class Scale>
 [[nodiscard]] status ranking_stage(const P& platform, const perch_options& options, workspace& ws,
                                    perch_result& out, pipeline_state<Scale>& s) noexcept {
@@ -512,17 +609,10 @@ template <Platform P, class Scale>
   auto ranked = rank_windows(s.windows.items(), platform.constraints, platform.scorer,
                              make_context, ws, options.ranking, scale_uncertainty(*s.scaled));
   PERCH_TRY(all_ok(ranked));
-  auto input_pixel = [&](pixel p) {
-    const point2f c = out.mask.to_input(to_point(p));
-    return pixel{std::clamp<std::int32_t>(static_cast<std::int32_t>(std::lround(c.x())), 0,
-                                          out.width - 1),
-                 std::clamp<std::int32_t>(static_cast<std::int32_t>(std::lround(c.y())), 0,
-                                          out.height - 1)};
-  };
   auto to_input = [&](window_measures& window) {
-    window.centre = input_pixel(window.centre);
-    window.base_end = input_pixel(window.base_end);
-    window.tip_end = input_pixel(window.tip_end);
+    window.centre = input_pixel(out, to_point(window.centre));
+    window.base_end = input_pixel(out, to_point(window.base_end));
+    window.tip_end = input_pixel(out, to_point(window.tip_end));
     window.mm_per_px *= options.downscale;
   };
   auto sites = ws.allocate<perch_site>(ranked->sites.size());

@@ -5,7 +5,8 @@
 /// done). The one include a user needs: every stage, in data-flow order, and `find_perch`.
 ///
 ///   mask → distance transform → skeleton → skeleton graph → weighting + pruning
-///        → windows + measures → constraints → scorer → ranked perch sites + diagnostics
+///        → gaps bridged (and the mask's stages again) → windows + measures → constraints
+///        → scorer → ranked perch sites + diagnostics
 #pragma once
 
 #include "perch/core/cxx20.hpp"  // first: a clear error before C++20 code
@@ -19,6 +20,7 @@
 #include <utility>
 
 #include "perch/analysis.hpp"
+#include "perch/bridge.hpp"
 #include "perch/core.hpp"
 #include "perch/distance.hpp"
 #include "perch/graph.hpp"
@@ -35,7 +37,9 @@ namespace perch {
 ///
 /// Runs the whole PLI pipeline on the tree's bounding box: distance transform, skeleton
 /// (`skeletoniser`, medial axis by default), skeleton graph of every connected component,
-/// weighting and pruning (paper eq. 1), windows one drone width long along every branch,
+/// weighting and pruning (paper eq. 1), small segmentation gaps bridged (`options.bridging`:
+/// the stages so far then run again on the bridged mask), windows one drone width long along
+/// every branch,
 /// measures, the platform's constraints and scorer (paper eq. 3), and ranks the best
 /// `options.ranking.top_k` sites at least `site_separation_mm` apart.
 /// "No perch" and "no tree" are outcomes, not errors: the result then says why (rejections per
@@ -76,14 +80,24 @@ template <BinaryView Mask, Platform P, ScalePolicy Scale, Skeletoniser Skel>
     return std::move(out);
   };
   if (out.mask.tree_pixels == 0) return finished();
-  PERCH_TRY(detail::distance_stage(ws, out, state));
-  out.timing.distance_ms = clock.lap();
-  PERCH_TRY(detail::skeleton_stage(skeletoniser, ws, out, state));
-  out.timing.skeleton_ms = clock.lap();
-  PERCH_TRY(detail::graph_stage(options, ws, out, state));
-  out.timing.graph_ms = clock.lap();
-  PERCH_TRY(detail::scale_and_prune_stage(platform, options, ws, out, state));
-  out.timing.prune_ms = clock.lap();
+  // The mask's stages, from its distances to its pruned skeleton graph.
+  auto analyse_mask = [&]() -> status {
+    PERCH_TRY(detail::distance_stage(ws, out, state));
+    out.timing.distance_ms += clock.lap();
+    PERCH_TRY(detail::skeleton_stage(skeletoniser, ws, out, state));
+    out.timing.skeleton_ms += clock.lap();
+    PERCH_TRY(detail::graph_stage(options, ws, out, state));
+    out.timing.graph_ms += clock.lap();
+    PERCH_TRY(detail::scale_and_prune_stage(platform, options, ws, out, state));
+    out.timing.prune_ms += clock.lap();
+    return {};
+  };
+  const workspace::checkpoint unbridged = ws.mark();
+  PERCH_TRY(analyse_mask());
+  auto bridged = detail::bridge_stage(options, unbridged, ws, out, state);
+  PERCH_TRY(all_ok(bridged));
+  out.timing.bridge_ms = clock.lap();
+  if (*bridged) PERCH_TRY(analyse_mask());
   PERCH_TRY(detail::limb_stage(options, ws, out, state));
   PERCH_TRY(detail::window_stage(mask, platform, options, ws, out, state));
   out.timing.windows_ms = clock.lap();

@@ -12,6 +12,7 @@
 #include <limits>
 
 #include "perch/analysis.hpp"
+#include "perch/bridge.hpp"
 #include "perch/core.hpp"
 #include "perch/distance.hpp"
 #include "perch/graph.hpp"
@@ -31,7 +32,8 @@ inline constexpr std::size_t max_sized_constraints = 64;
 
 /// Bytes every stage from the skeleton graph on takes at most (summed: they give back only
 /// their own scratch), for `pixels` skeleton pixels, a graph built with at most `nodes` nodes
-/// and `branches` branches (pruning adds neither), and `windows` windows on a `w` × `h` frame.
+/// and `branches` branches (pruning adds neither), a mask of at most `runs` runs (the search
+/// for gaps to bridge), and `windows` windows on a `w` × `h` frame.
 /// Limbs are at most the branches (each live branch lies on one limb) and components at most
 /// the nodes (each has one). A limb's points are its branches' pixels (each skeleton pixel in
 /// at most one branch) plus a node pixel per junction it runs through (a join of two branch
@@ -40,13 +42,14 @@ inline constexpr std::size_t max_sized_constraints = 64;
 /// are ranked.
 [[nodiscard]] constexpr std::size_t after_skeleton_bytes(int w, int h, std::size_t pixels,
                                                          std::size_t nodes, std::size_t branches,
-                                                         std::size_t windows,
+                                                         std::size_t runs, std::size_t windows,
                                                          std::size_t sites) noexcept {
   const std::size_t points = pixels + branches;
   std::size_t bytes = graph_storage_bytes(pixels, nodes, branches) +
                       std::max({graph_build_scratch_bytes(pixels, nodes),
                                 graph_prune_scratch_bytes(nodes, branches),
-                                graph_distance_scratch_bytes(nodes)});
+                                graph_distance_scratch_bytes(nodes),
+                                gap_bridge_search_bytes(nodes, runs)});
   // The scale's sample of the skeleton and its scratch.
   bytes += workspace::footprint<pixel>(pixels) + workspace::footprint<float>(pixels);
   // Limbs: distances to the trunk, continuations, the limbs and their stretches, grounded
@@ -58,11 +61,11 @@ inline constexpr std::size_t max_sized_constraints = 64;
            limb_obstacles_workspace_bytes(branches, points, w, h) +
            workspace::footprint<limb_neighbourhood>(branches) +
            2 * workspace::footprint<float>(points);
-  // Windows, their scratch and diameters; the ranking's candidates, sites (twice: ranked, then
+  // Windows, their scratch, diameters and points on bridges; the ranking's candidates, sites (twice: ranked, then
   // in input pixels) and per-constraint counts and near misses.
   bytes += workspace::footprint<window_measures>(windows) +
            workspace::footprint<float>(window_scratch_floats(points)) +
-           workspace::footprint<float>(points);
+           workspace::footprint<float>(points) + workspace::footprint<std::uint32_t>(points + 1);
   bytes += workspace::footprint<std::uint64_t>(windows) +
            2 * workspace::footprint<perch_site>(sites < windows ? sites : windows) +
            workspace::footprint<rejection_count>(max_sized_constraints) +
@@ -87,14 +90,16 @@ inline constexpr std::size_t max_sized_constraints = 64;
 
 /// The bound for an analysed frame of `w` × `h` pixels with its border (the box within it),
 /// `reduction` the bytes of `prepare_mask`'s reduction and `depth` those of a depth image
-/// reduced to the frame (both 0 at full size), for skeletonisers `S...` and at most `sites`
-/// ranked sites.
-/// Held for the whole call: the box, its runs, the depth image, the distance map and the
-/// skeleton; on top, one at a time: the hole filling's, the distance transform's or the
-/// skeletoniser's scratch, or everything from the graph on. 0 when the sum would not fit.
+/// reduced to the frame (both 0 at full size), for skeletonisers `S...`, at most `sites`
+/// ranked sites and `bridges` bridges of gaps (0: bridging off).
+/// Held for the whole call: the box, its runs, the depth image, the bridges (with the bridged
+/// mask's runs and the bridges reported), the distance map and the skeleton; on top, one at a
+/// time: the hole filling's, the distance transform's or the skeletoniser's scratch, or
+/// everything from the graph on. 0 when the sum would not fit.
 template <Skeletoniser... S>
 [[nodiscard]] constexpr std::size_t find_perch_bytes(int w, int h, std::size_t reduction,
                                                      std::size_t depth, std::size_t sites,
+                                                     std::size_t bridges,
                                                      const perch_limits& limits) noexcept {
   const auto frame = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
   // Under 1 KiB per pixel, per skeleton pixel and per window: with 2 KiB of headroom for each,
@@ -111,7 +116,11 @@ template <Skeletoniser... S>
   const std::size_t held = workspace::footprint<std::uint8_t>(box) + reduction +
                            row_runs_workspace_bytes(h, runs) + depth +
                            workspace::footprint<std::uint32_t>(box) +
-                           workspace::footprint<std::uint8_t>(box);
+                           workspace::footprint<std::uint8_t>(box) +
+                           workspace::footprint<gap_bridge>(bridges);
+  const std::size_t bridged =
+      bridges == 0 ? 0
+                   : row_runs_workspace_bytes(h, runs) + workspace::footprint<perch_bridge>(bridges);
   // The box's shorter side is at most its area's square root: the skeletoniser's keys.
   const std::size_t side = std::min({floor_sqrt(box), static_cast<std::size_t>(w),
                                      static_cast<std::size_t>(h)});
@@ -119,11 +128,11 @@ template <Skeletoniser... S>
       static_cast<int>(side), static_cast<int>((box + side - 1) / side), tree);
   const std::size_t scratch[] = {
       fill_holes_workspace_bytes(h, runs), distance_workspace_bytes(w, h), skeletonise,
-      after_skeleton_bytes(w, h, skeleton, nodes, branches, limits.windows, sites)};
+      after_skeleton_bytes(w, h, skeleton, nodes, branches, runs, limits.windows, sites)};
   std::size_t most_scratch = 0;
   for (const std::size_t s : scratch) most_scratch = s > most_scratch ? s : most_scratch;
   // An unaligned buffer loses up to one alignment to the workspace's first allocation.
-  return held + most_scratch + workspace::alignment;
+  return held + bridged + most_scratch + workspace::alignment;
 }
 
 }  // namespace detail
@@ -131,9 +140,9 @@ template <Skeletoniser... S>
 /// Bytes of workspace `find_perch` needs at most for a `width` × `height` mask at downscale 1,
 /// with skeletonisers `S...` (perch's own without any: name yours, e.g. `medial_axis`, for the
 /// tightest bound) and perch's scale policies, on masks within `limits`. Give `find_perch` the
-/// same limits (`perch_options::limits`): it refuses a mask beyond them with
-/// `capacity_exceeded` before taking its memory, so a borrowed buffer of this size, at any
-/// alignment, never fails for lack of room. A constant expression, for a static buffer.
+/// same limits (`perch_options::limits`) and the default `bridging`: it refuses a mask beyond
+/// them with `capacity_exceeded` before taking its memory, so a borrowed buffer of this size,
+/// at any alignment, never fails for lack of room. A constant expression, for a static buffer.
 /// How tight: README, "Firmware and cross targets". 0 for sizes or limits `find_perch`
 /// rejects before taking any workspace, and when the bound does not fit this target's `size_t`.
 template <Skeletoniser... S>
@@ -142,7 +151,8 @@ template <Skeletoniser... S>
   if (width <= 0 || height <= 0 || std::int64_t{width} * height > max_image_pixels ||
       !limits.validate())
     return 0;
-  return detail::find_perch_bytes<S...>(width + 2, height + 2, 0, 0, limits.windows, limits);
+  return detail::find_perch_bytes<S...>(width + 2, height + 2, 0, 0, limits.windows,
+                                        bridge_options{}.max_bridges, limits);
 }
 
 /// Bytes of workspace `find_perch` needs at most for a `width` × `height` mask with `options`
@@ -166,7 +176,9 @@ template <Skeletoniser... S>
           : 0;
   return detail::find_perch_bytes<S...>(w + 2, h + 2,
                                         reduction_workspace_bytes(width, options.downscale), depth,
-                                        options.ranking.top_k, options.limits);
+                                        options.ranking.top_k,
+                                        options.bridging.enabled ? options.bridging.max_bridges : 0,
+                                        options.limits);
 }
 
 /// The limits `result`'s mask met: `find_perch` with these (or larger) in

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: BSL-1.0
 // Fuzz target: find_perch on arbitrary masks and parameters. The input bytes choose the size,
 // the platform, the scale (fixed, trunk prior, or a depth image that may be a column too wide
-// and have invalid samples) and the options (including NaN, zero and negative values), then
-// the pixels. Any input must give a status or a result whose sites lie on the mask with finite
-// values; never a crash, UB, an assert or an endless loop.
+// and have invalid samples) and the options (including NaN, zero and negative values, and the
+// widest gap bridged), then the pixels. Any input must give a status or a result whose sites
+// lie on the mask with finite values and whose bridges lie in the image; never a crash, UB, an
+// assert or an endless loop.
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -55,6 +56,10 @@ void run(const perch::image<std::uint8_t>& mask, const Platform& platform, const
     check(m.slope_deg >= 0.0f && m.slope_deg <= 90.0f);
     if (m.has_position) check(m.position_m.allFinite());
   }
+  for (const perch::perch_bridge& b : found->bridges) {
+    check(mask.view().contains(b.from.x, b.from.y) && mask.view().contains(b.to.x, b.to.y));
+    check(std::isfinite(b.gap_px) && b.gap_px >= 0.0f);
+  }
 }
 
 }  // namespace
@@ -70,6 +75,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.camera.roll_deg = (data[4] & 0x80) != 0 ? pick_float(data[4]) - 4.0f : 0.0f;
   options.ranking.top_k = 1 + data[4] % 6;
   const float scale_value = pick_float(data[5]);
+  if ((data[5] & 0x80) != 0) options.bridging.max_gap_px = 4.0f * pick_float(data[5] >> 3);
 
   perch::image<std::uint8_t> mask(w, h);
   const std::size_t bits = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);

@@ -156,7 +156,20 @@ json_value check_detect(const std::string& text, int width, int height) {
   CHECK(member(doc, "rejected").is_object());
   for (const char* key : {"nodes", "edges", "components", "holes_filled"})
     CHECK(member(member(doc, "graph"), key).is_number());
+  CHECK(member(doc, "bridges").is_array());
+  for (const json_value& b : member(doc, "bridges").items) {
+    for (const char* end : {"from", "to"}) {
+      const json_value& p = member(b, end);
+      REQUIRE(p.items.size() == 2);
+      CHECK((p.items[0].number >= 0 && p.items[0].number < width));
+      CHECK((p.items[1].number >= 0 && p.items[1].number < height));
+    }
+    CHECK(member(b, "gap_px").number >= 0);
+    const std::string kind = member(b, "kind").text;
+    CHECK((kind == "end-to-end" || kind == "end-to-body"));
+  }
   CHECK(member(member(doc, "timing_ms"), "total").is_number());
+  CHECK(member(member(doc, "timing_ms"), "bridge").is_number());
   return doc;
 }
 
@@ -307,6 +320,38 @@ TEST_CASE("detect: --annotate writes a picture of the input's size; --json write
     CHECK(out.height == mask.height);
     CHECK(out.channels == 3);
   }
+}
+
+TEST_CASE("detect: a limb broken by a 3 px gap is bridged and drawn; --max-gap-px 0 leaves it") {
+  const fs::path dir = scratch("detect_bridge");
+  // A trunk from the bottom edge and a level limb leaving it, broken 60 px out (2 mm/px).
+  perch::image<std::uint8_t> mask(640, 480, 0);
+  const auto fill = [&](int x0, int y0, int x1, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) mask(x, y) = 255;
+  };
+  fill(100, 200, 141, 480);
+  fill(141, 250, 200, 271);
+  fill(203, 250, 600, 271);
+  REQUIRE(perch::png::write_png(dir / "broken.png", perch::image_view<const std::uint8_t>(mask.view())).has_value());
+  const std::string input = (dir / "broken.png").string();
+  const fs::path picture = dir / "broken.annotated.png";
+  const run_result r = run_perch({"detect", input, "--mm-per-px", "2", "--annotate", picture.string()}, dir);
+  REQUIRE_MESSAGE(r.exit_code == 0, r.err);
+  const json_value doc = check_detect(r.out, 640, 480);
+  CHECK(member(doc, "status").text == "ok");  // on the far piece, supported through the bridge
+  REQUIRE(member(doc, "bridges").items.size() == 1);
+  const json_value& bridge = member(doc, "bridges").items.front();
+  CHECK(member(bridge, "kind").text == "end-to-end");
+  CHECK(member(bridge, "gap_px").number == doctest::Approx(3).epsilon(0.35));
+  CHECK(member(bridge, "from").items[0].number == doctest::Approx(199).epsilon(0.01));
+  CHECK(member(bridge, "to").items[0].number == doctest::Approx(203).epsilon(0.01));
+  CHECK(decode(picture).width == 640);
+  const run_result off = run_perch({"detect", input, "--mm-per-px", "2", "--max-gap-px", "0"}, dir);
+  REQUIRE_MESSAGE(off.exit_code == 0, off.err);
+  const json_value unbridged = check_detect(off.out, 640, 480);
+  CHECK(member(unbridged, "status").text == "no_perch");
+  CHECK(member(unbridged, "bridges").items.empty());
 }
 
 TEST_CASE("detect: every platform, scale and option") {
@@ -497,6 +542,8 @@ TEST_CASE("detect: bad scale, roll and depth exit 2 naming the problem") {
       {{"detect", mask, "--downscale", "0"}, "out of range"},
       {{"detect", mask, "--downscale", "nan"}, "expected a number"},
       {{"detect", mask, "--max-hole-px", "-1"}, "out of range"},
+      {{"detect", mask, "--max-gap-px", "-1"}, "out of range"},
+      {{"detect", mask, "--max-gap-px", "nan"}, "expected a number"},
       {with_depth("small.png", "1000"), "same size"},
       {downscaled(with_depth("narrow.png", "1000")), "same size"},
       {downscaled(with_depth("invalid.png", "1000")), "no valid"},

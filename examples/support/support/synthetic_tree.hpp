@@ -1150,6 +1150,61 @@ inline void bias_radii(synthetic_tree& tree, float px) {
       if (drawn(x, y) != 0 && kept(x, y) == 0) tree.mask(x, y) = 0;
 }
 
+/// A segmenter's gaps: `count` breaks cut into the mask of `tree`, each across a limb of the
+/// branching structure (trunk or limb, not a twig or fragment; at least 6 px wide at its base
+/// and 4 px where it is cut) and 1–8 px long along it (drawn per gap): every other one at a random point of the limb's
+/// middle three fifths (a leaf in front, a thin stretch lost), the others at a child's base,
+/// where its whole width has just left its parent's outline (a child cut off at the
+/// junction). The band erased is the limb's width and 4 px more on each side (the outline's
+/// bumps), but no pixel inside another limb's drawn outline. The truth stays the drawn
+/// geometry: the limb is still there and its pieces attached. Deterministic in `seed`.
+/// Complexity: O(count × band pixels × nearby limbs' segments).
+inline void cut_gaps(synthetic_tree& tree, int count, std::uint32_t seed) {
+  std::vector<std::size_t> cut;  // limbs a gap may cross
+  for (std::size_t i = 0; i < tree.limbs.size(); ++i) {
+    const limb_truth& L = tree.limbs[i];
+    if ((L.kind == limb_kind::trunk || L.kind == limb_kind::limb) && L.centreline.size() >= 2 &&
+        L.diameter_px.size() == L.centreline.size() && L.diameter_px.front() >= 6.0f)
+      cut.push_back(i);
+  }
+  if (count <= 0 || cut.empty()) return;
+  detail::tree_random rng(seed ^ 0x9e3779b9u);
+  for (int k = 0; k < count; ++k) {
+    const limb_truth& L = tree.limbs[cut[static_cast<std::size_t>(rng.integer(0, static_cast<int>(cut.size()) - 1))]];
+    const float length = length_px(L);
+    const float gap = static_cast<float>(rng.integer(1, 8));
+    float s = static_cast<float>(rng.uniform(0.2, 0.8)) * length;
+    const bool at_base = k % 2 == 1 && L.parent >= 0;
+    if (at_base) {  // where the child's whole width has left the parent's outline
+      const limb_truth& P = tree.limbs[static_cast<std::size_t>(L.parent)];
+      for (s = 0; s < length && detail::surface_distance(P, truth_point_at(L, s)) <
+                                    0.5f * truth_diameter_at(L, s);
+           s += 0.5f) {
+      }
+    }
+    if (s + gap > length || truth_diameter_at(L, s) < 4.0f) continue;
+    const Eigen::Vector2f c = truth_point_at(L, s + 0.5f * gap), t = truth_tangent_at(L, s);
+    const float half_width = 0.5f * truth_diameter_at(L, s) + 4.0f;
+    const float reach = std::hypot(0.5f * gap, half_width);
+    const int x0 = std::max(0, static_cast<int>(std::floor(c.x() - reach)));
+    const int x1 = std::min(tree.mask.width() - 1, static_cast<int>(std::ceil(c.x() + reach)));
+    const int y0 = std::max(0, static_cast<int>(std::floor(c.y() - reach)));
+    const int y1 = std::min(tree.mask.height() - 1, static_cast<int>(std::ceil(c.y() + reach)));
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const Eigen::Vector2f d = Eigen::Vector2f(static_cast<float>(x), static_cast<float>(y)) - c;
+        if (tree.mask(x, y) == 0 || std::abs(d.dot(t)) > 0.5f * gap ||
+            std::abs(d.x() * t.y() - d.y() * t.x()) > half_width)
+          continue;
+        bool other = false;
+        for (std::size_t j = 0; j < tree.limbs.size() && !other; ++j)
+          other = &tree.limbs[j] != &L && !tree.limbs[j].centreline.empty() &&
+                  detail::surface_distance(tree.limbs[j], c + d) <= 0.5f;
+        if (!other) tree.mask(x, y) = 0;
+      }
+  }
+}
+
 /// Makes a synthetic tree (see the file comment). Limb 0 is the trunk; its bottom row is full
 /// width (the trunk's base cap lies below the image). Limbs are grown breadth-first, so a
 /// parent's index is below its children's. Order: the first tree, the second tree (`tree == 1`,
