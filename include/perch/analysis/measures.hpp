@@ -318,23 +318,10 @@ inline void tangent_profile(std::span<const pixel> points, std::span<const float
     const double sxx = window.xx - count * mx * mx;
     const double sxy = window.xy - count * mx * my;
     const double syy = window.yy - count * my * my;
-    // The principal axis: the eigenvector of the larger eigenvalue of the symmetric 2 × 2
-    // scatter matrix, in closed form (no trigonometry in the per-point loop).
-    const double half_diff = 0.5 * (sxx - syy);
-    const double root = std::sqrt(half_diff * half_diff + sxy * sxy);
-    double vx = 1, vy = 0;  // isotropic scatter (a lone point): any axis
-    if (root > 0) {
-      if (half_diff >= 0) {
-        vx = half_diff + root;
-        vy = sxy;
-      } else {
-        vx = sxy;
-        vy = root - half_diff;
-      }
-    }
-    const double norm = std::sqrt(vx * vx + vy * vy);
-    auto tx = static_cast<float>(vx / norm);
-    auto ty = static_cast<float>(vy / norm);
+    const point2f axis = principal_axis(sxx, sxy, syy);
+    const bool isotropic = axis.x() == 0 && axis.y() == 0;  // a lone point: any axis
+    float tx = isotropic ? 1.0f : axis.x();
+    float ty = isotropic ? 0.0f : axis.y();
     const auto cx = static_cast<float>(points[b - 1].x - points[a].x);
     const auto cy = static_cast<float>(points[b - 1].y - points[a].y);
     if (tx * cx + ty * cy < 0) {

@@ -185,23 +185,11 @@ struct line_fit {
   [[nodiscard]] point2f centroid() const noexcept {
     return {static_cast<float>(sx / n), static_cast<float>(sy / n)};
   }
-  /// The unit direction of the largest spread (no trigonometry: the same on every target);
-  /// zero when the points do not spread.
+  /// The unit direction of the largest spread (`principal_axis`); zero when the points do not
+  /// spread.
   [[nodiscard]] point2f direction() const noexcept {
-    const double a = sxx / n - (sx / n) * (sx / n);
-    const double b = sxy / n - (sx / n) * (sy / n);
-    const double c = syy / n - (sy / n) * (sy / n);
-    const double half = 0.5 * (a - c);
-    const double largest = 0.5 * (a + c) + std::sqrt(half * half + b * b);
-    // (b, λ − a) and (λ − c, b) are both eigenvectors of λ; the longer is the well-conditioned.
-    double ux = b, uy = largest - a;
-    if ((largest - c) * (largest - c) + b * b > ux * ux + uy * uy) {
-      ux = largest - c;
-      uy = b;
-    }
-    const double norm = std::sqrt(ux * ux + uy * uy);
-    if (!(norm > 1e-9)) return {0, 0};
-    return {static_cast<float>(ux / norm), static_cast<float>(uy / norm)};
+    return principal_axis(sxx / n - (sx / n) * (sx / n), sxy / n - (sx / n) * (sy / n),
+                          syy / n - (sy / n) * (sy / n));
   }
 };
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 
 namespace perch {
@@ -23,6 +24,23 @@ struct pixel {
 /// The centre of pixel `p` as a `point2f`.
 [[nodiscard]] inline point2f to_point(pixel p) noexcept {
   return {static_cast<float>(p.x), static_cast<float>(p.y)};
+}
+
+/// The unit principal axis of a scatter of points with centred second moments `sxx`, `sxy`,
+/// `syy` (orthogonal least squares): the eigenvector of the larger eigenvalue of the symmetric
+/// 2 × 2 matrix [[sxx, sxy], [sxy, syy]], in closed form (no trigonometry: the same on every
+/// target). Unsigned (either direction along the axis); zero for an isotropic scatter, which
+/// has no axis.
+[[nodiscard]] inline point2f principal_axis(double sxx, double sxy, double syy) noexcept {
+  const double half_diff = 0.5 * (sxx - syy);
+  const double root = std::sqrt(half_diff * half_diff + sxy * sxy);
+  if (!(root > 0)) return point2f::Zero();
+  // (half_diff + root, sxy) and (sxy, root − half_diff) both span the axis; each is the
+  // well-conditioned one on its side of half_diff = 0.
+  const double vx = half_diff >= 0 ? half_diff + root : sxy;
+  const double vy = half_diff >= 0 ? sxy : root - half_diff;
+  const double norm = std::sqrt(vx * vx + vy * vy);
+  return {static_cast<float>(vx / norm), static_cast<float>(vy / norm)};
 }
 
 /// The 8 neighbour offsets in a fixed order: E, NE, N, NW, W, SW, S, SE (counter-clockwise on
