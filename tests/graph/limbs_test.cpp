@@ -36,14 +36,15 @@ struct traced {
 };
 
 /// Builds the graph of `d`, its continuations and its limbs.
-void trace(const drawn_skeleton& d, traced& t, const perch::limb_options& options = {}) {
+void trace(const drawn_skeleton& d, traced& t, const perch::limb_options& options = {},
+           float twig_radius_px = 0) {
   auto g = perch::build_skeleton_graph(
       perch::image_view<const std::uint8_t>(d.skeleton.data(), d.skeleton.width(), d.skeleton.height()),
       perch::image_view<const std::uint32_t>(d.dist2.data(), d.dist2.width(), d.dist2.height()), t.ws);
   REQUIRE(g);
   t.graph = std::move(*g);
   t.next.assign(2 * static_cast<std::size_t>(t.graph.topology().edge_id_end()), 0);
-  perch::limb_continuations(t.graph, perch::edge_continuations(t.next), options);
+  perch::limb_continuations(t.graph, perch::edge_continuations(t.next), options, twig_radius_px);
   auto limbs = perch::trace_limbs(t.graph, perch::edge_continuations(t.next), t.ws);
   REQUIRE(limbs);
   t.limbs = *limbs;
@@ -89,9 +90,10 @@ TEST_CASE("limbs: a limb runs on through the junction where a side twig leaves")
 }
 
 TEST_CASE("limbs: a side limb, a bend, or a thin edge to another junction ends the limb") {
-  const auto limbs_of = [](const drawn_skeleton& d, const perch::limb_options& options = {}) {
+  const auto limbs_of = [](const drawn_skeleton& d, const perch::limb_options& options = {},
+                           float twig_radius_px = 0) {
     traced t;
-    trace(d, t, options);
+    trace(d, t, options, twig_radius_px);
     CHECK(t.limbs.size() <= t.graph.branch_count());
     return t.limbs.size();
   };
@@ -107,6 +109,10 @@ TEST_CASE("limbs: a side limb, a bend, or a thin edge to another junction ends t
   side.line(0, 30, 119, 30, 8);
   side.line(60, 29, 60, 0, 4);
   CHECK(limbs_of(side) == 3);
+  // ... unless it is known to be a twig by the platform's measure (a radius under
+  // `twig_radius_px`): compliant, no obstacle, and the limb runs on past it.
+  CHECK(limbs_of(side, {}, 4.5f) == 2);
+  CHECK(limbs_of(side, {}, 4.0f) == 3);
 
   drawn_skeleton bend(120, 120);  // a twig where the limb turns by 90°
   bend.line(0, 60, 60, 60, 8);

@@ -175,12 +175,12 @@ class edge_continuations {
 /// Joins, in `next`, the two edges at each junction that carry one limb through it. At a junction node
 /// whose incident edges are all distinct (no self-loop), two edges continue one another when
 /// they leave in nearly opposite directions (`max_turn_deg`) with similar thicknesses
-/// (`through_thickness_ratio_min`) and every other edge there is a side twig: a leaf edge of at
-/// most `side_area_share_max` of the through limb's cross-section (the pipe model: a thicker
-/// leaf may be the other child of a fork), or an edge that leads on to another junction with a
-/// radius under `twig_radius_px` (a twig by the platform's measure that touches something else
-/// or carries spurs: clutter a claw closes through, which the clearance does not count either;
-/// 0 for none); of several such pairs, the straightest. Directions and thicknesses are those of
+/// (`through_thickness_ratio_min`) and every other edge there is a side twig: an edge with a
+/// radius under `twig_radius_px` (a twig by the platform's measure, whether it ends in a tip,
+/// touches something else or carries spurs: clutter a claw closes through, which the clearance
+/// does not count either; 0 for none), or a leaf edge of at most `side_area_share_max` of the
+/// through limb's cross-section (the pipe model: a thicker leaf may be the other child of a
+/// fork); of several such pairs, the straightest. Directions and thicknesses are those of
 /// each edge just beyond the node (`leaving_axis_of`).
 /// `next` holds `edge_continuations::ends_for(graph)` entries.
 /// Complexity: O(Σ over junctions of degree² + points near the junctions).
@@ -223,8 +223,8 @@ inline void limb_continuations(const skeleton_graph& graph, const edge_continuat
         for (std::size_t s = 0; s < count && sides_thin; ++s)
           if (s != a && s != b)
             sides_thin =
-                leaf[s] ? radius(s) * radius(s) <= options.side_area_share_max * thin * thin
-                        : radius(s) < twig_radius_px;
+                radius(s) < twig_radius_px ||
+                (leaf[s] && radius(s) * radius(s) <= options.side_area_share_max * thin * thin);
         if (!sides_thin) continue;
         best_a = a;
         best_b = b;
