@@ -48,11 +48,14 @@ constexpr std::string_view cause_keys[] = {"clearance", "slope",   "bend",      
 /// Knobs of the populations in a fixed order (others, e.g. a file's kind, follow by name).
 constexpr std::string_view knob_order[] = {"clean",     "none",      "noisy",    "bent",     "kinks",
                                            "crossings", "second",    "fragments", "overflow", "decurrent",
-                                           "excurrent", "columnar",  "irregular"};
+                                           "excurrent", "columnar",  "irregular", "sympodial", "monopodial",
+                                           "mixed",     "fastigiate", "droop",   "stubs",    "foliage",
+                                           "soft",      "rough",     "dilated",  "eroded",   "holes",
+                                           "occluded",  "broken",    "coarse"};
 
 struct tree_record {
   std::string name;    ///< file stem, or "arcs-12"
-  std::string family;  ///< arcs, colonisation, shapes
+  std::string family;  ///< arcs, colonisation, sympodial, shapes
   std::string kind;    ///< knobs joined by '+' (population) or the truth file's kind
   std::vector<std::string> knobs;
   bool built_without_perch = false;
@@ -360,7 +363,7 @@ void write_tally(st::json_writer& json, const tally& t) {
   json.end_object();
 }
 
-/// `--population SPEC`: "N" (both families, N each) or "family:N[,family:N]", where N may be
+/// `--population SPEC`: "N" (every family, N each) or "family:N[,family:N]", where N may be
 /// "A-B" (members A to B).
 struct population_part {
   st::tree_family family = st::tree_family::arcs;
@@ -390,13 +393,15 @@ std::string parse_population(std::string_view spec, std::vector<population_part>
     }
     return number(text.substr(0, dash), p.first) && number(text.substr(dash + 1), p.last) && p.last >= p.first;
   };
-  const std::string bad = "--population: expected N, or arcs:N,colonisation:N (N a count or A-B), not '" +
+  const std::string bad = "--population: expected N, or arcs:N,colonisation:N,sympodial:N (N a count or A-B), not '" +
                           std::string(spec) + "'";
   if (spec.find(':') == std::string_view::npos) {
     population_part p;
     if (!range(spec, p)) return bad;
     parts.push_back(p);
     p.family = st::tree_family::colonisation;
+    parts.push_back(p);
+    p.family = st::tree_family::sympodial;
     parts.push_back(p);
     return {};
   }
@@ -412,8 +417,10 @@ std::string parse_population(std::string_view spec, std::vector<population_part>
       p.family = st::tree_family::arcs;
     else if (name == "colonisation")
       p.family = st::tree_family::colonisation;
+    else if (name == "sympodial")
+      p.family = st::tree_family::sympodial;
     else
-      return "--population: unknown family '" + std::string(name) + "' (arcs or colonisation)";
+      return "--population: unknown family '" + std::string(name) + "' (arcs, colonisation or sympodial)";
     if (!range(item.substr(colon + 1), p)) return bad;
     parts.push_back(p);
   }
@@ -421,10 +428,15 @@ std::string parse_population(std::string_view spec, std::vector<population_part>
 }
 
 /// The family and knobs of a truth file's kind ("noisy", "colonisation-decurrent-two-trees",
-/// "shape-y").
+/// "sympodial-mixed+soft+stubs", "shape-y").
+std::vector<std::string> split_knobs(const std::string& kind);
 void classify_file(tree_record& rec) {
   constexpr std::string_view colonisation = "colonisation-";
-  if (rec.kind.starts_with(colonisation)) {
+  constexpr std::string_view sympodial = "sympodial-";
+  if (rec.kind.starts_with(sympodial)) {
+    rec.family = "sympodial";
+    rec.knobs = split_knobs(rec.kind.substr(sympodial.size()));
+  } else if (rec.kind.starts_with(colonisation)) {
     rec.family = "colonisation";
     const std::string rest = rec.kind.substr(colonisation.size());
     const std::size_t dash = rest.find('-');
@@ -490,9 +502,10 @@ int run_eval(int argc, const char* const* argv) {
       "DIR that have a NAME.truth.json (perch synth), or --population: trees made in memory.");
   args.add_positional("DIR", "directory of masks and truth files (or --population)", st::arg_presence::optional);
   args.add_option("population", "SPEC",
-                  "the built-in population instead of DIR: N (both families, N trees each), or\n"
-                  "arcs:N,colonisation:N; N may be A-B (members A to B), e.g. arcs:12-12");
-  args.add_option("magnify", "M", "population trees M times bigger (640-1280 px wide at 1)", "1");
+                  "the built-in population instead of DIR: N (all three families, N trees each),\n"
+                  "or arcs:N,colonisation:N,sympodial:N; N may be A-B (members A to B), e.g.\n"
+                  "arcs:12-12 (sympodial: the third family, see perch synth --help)");
+  args.add_option("magnify", "M", "population trees M times bigger (640-1280 px wide at 1, sympodial 640-2000)", "1");
   args.add_flag("known-scale", "use the truth's mm/px (fixed scale); the default with --population");
   args.add_option("outline-bias", "PX", "move every outline out by PX pixels first (-3 to 3): a segmenter that\n"
                                         "over- (PX > 0) or under-segments (PX < 0); the truth stays", "0");
@@ -523,6 +536,7 @@ int run_eval(int argc, const char* const* argv) {
       "which); 1 for an internal failure.\n"
       "Tracking on synthetic approach sequences: perch eval --sequences N (see its --help).\n"
       "Examples: perch eval --population arcs:200,colonisation:200\n"
+      "          perch eval --population sympodial:200 --trunk-mm 200\n"
       "          perch synth --seed 100 --count 30 --out /tmp/trees && perch eval /tmp/trees --known-scale");
   int exit = exit_ok;
   if (!parse_or_exit(args, argc, argv, "eval", exit)) return exit;

@@ -9,6 +9,7 @@
 #include <system_error>
 
 #include "support/colonisation_tree.hpp"
+#include "support/population.hpp"
 #include "truth.hpp"
 #include "tool.hpp"
 
@@ -135,6 +136,20 @@ synthetic make_colonisation_synthetic(std::uint32_t seed, std::size_t form, std:
   return {std::move(truth), std::move(tree.mask)};
 }
 
+/// Member `index` of the sympodial population family (support/population.hpp, the same tree
+/// `perch eval --population sympodial:N` judges as sympodial-INDEX), with its truth.
+synthetic make_sympodial_synthetic(int index) {
+  st::population_member m = st::population_tree(st::tree_family::sympodial, index);
+  truth_file truth;
+  truth.kind = "sympodial-" + m.kind;
+  truth.seed = static_cast<std::uint32_t>(index);
+  truth.width = m.tree.mask.width();
+  truth.height = m.tree.mask.height();
+  truth.mm_per_px = m.tree.mm_per_px;
+  truth.limbs = std::move(m.tree.limbs);
+  return {std::move(truth), std::move(m.tree.mask)};
+}
+
 /// Re-draws the mask of `truth` (every limb as tapered capsules), as make_tree does.
 image<std::uint8_t> draw_truth(const truth_file& truth) {
   image<std::uint8_t> mask(truth.width, truth.height, 0);
@@ -221,11 +236,17 @@ int run_synth(int argc, const char* const* argv) {
                            "--family colonisation grows trees by space colonisation instead (crown\n"
                            "form --form, or all four in turn; tree i is clean, noisy (outline noise,\n"
                            "pinholes, twigs, detached fragments) or two-trees (a second tree, limbs\n"
-                           "leaving the frame) by i mod 3).");
+                           "leaving the frame) by i mod 3).\n"
+                           "--family sympodial writes members SEED … SEED+N-1 of the population's third\n"
+                           "family (perch eval --population sympodial:N calls them sympodial-I): 3-D turtle\n"
+                           "forks and leaders, pipe-model diameters, stubs, sampled coverage thresholded\n"
+                           "per tree, foliage, rough or biased outlines, occluding leaves, broken thin\n"
+                           "limbs; 640x480 to 2000x1500; the kind lists the member's knobs.");
   args.add_option("seed", "S", "seed of the first tree", "1");
   args.add_option("count", "N", "number of trees", "6");
   args.add_option("out", "DIR", "output directory (created if missing)");
-  args.add_option("family", "F", "rules (make_tree) or colonisation (space colonisation)", "rules");
+  args.add_option("family", "F", "rules (make_tree), colonisation (space colonisation) or sympodial\n"
+                                 "(the population's third family)", "rules");
   args.add_option("form", "FORM",
                   "colonisation crown: decurrent, excurrent, columnar, irregular or mixed", "mixed");
   args.add_flag("shapes", "also write the hand-made shapes shape-limb, shape-y, shape-steep");
@@ -246,8 +267,8 @@ int run_synth(int argc, const char* const* argv) {
   }
   const std::string family = args.get_string("family", "rules").value;
   const std::string form_name = args.get_string("form", "mixed").value;
-  if (family != "rules" && family != "colonisation") {
-    report_error("synth", "--family must be rules or colonisation, not " + family);
+  if (family != "rules" && family != "colonisation" && family != "sympodial") {
+    report_error("synth", "--family must be rules, colonisation or sympodial, not " + family);
     return exit_usage;
   }
   std::size_t form = std::size(forms);  // mixed
@@ -266,7 +287,8 @@ int run_synth(int argc, const char* const* argv) {
     const std::uint32_t s = seed.value + static_cast<std::uint32_t>(i);
     const auto index = static_cast<std::size_t>(i);
     const synthetic made =
-        family == "colonisation"
+        family == "sympodial" ? make_sympodial_synthetic(static_cast<int>(s))
+        : family == "colonisation"
             ? make_colonisation_synthetic(s, form < std::size(forms) ? form : index % std::size(forms),
                                           index % std::size(colonisation_variants))
             : make_synthetic(s, static_cast<tree_kind>(i % 6));

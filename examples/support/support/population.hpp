@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSL-1.0
 /// \file
-/// The synthetic populations perch is measured on: two differently built tree families, each
+/// The synthetic populations perch is measured on: three differently built tree families, each
 /// varied widely (sizes, scales, crown forms, bending, kinks, crossings, twigs, pinholes,
 /// outline noise, fragments, a second tree, limbs leaving the frame), with the truth of
 /// `perch_truth`. For finding failures, not for a score: no member is tuned one by one.
@@ -9,6 +9,11 @@
 ///    at will; its no-perch members are built with no feasible perch (`perch_supply::none`).
 ///  - `tree_family::colonisation` (`make_colonisation_tree`, Runions et al. 2007): crowns grown
 ///    toward attraction points, decurrent, excurrent, columnar and irregular.
+///  - `tree_family::sympodial` (`make_sympodial_tree`): a 3-D turtle's codominant forks,
+///    monopodial leaders, mixed and fastigiate crowns, pipe-model diameters with knots, stubs,
+///    drawn by sampled coverage thresholded per tree, with segmenter-like defects (foliage,
+///    rough outlines, outline bias, occluding leaves, broken thin limbs); built with conventions
+///    the other two do not share, to stand for a generator perch has never seen.
 ///
 /// The mix: 15 % of each family's members have no feasible stretch, the rest have one (a
 /// population where most trees offer nothing measures only caution). A member's knobs come
@@ -24,15 +29,21 @@
 #include <string_view>
 
 #include "support/colonisation_tree.hpp"
+#include "support/sympodial_tree.hpp"
 #include "support/synthetic_tree.hpp"
 
 namespace perch::support {
 
 /// A generator of trees.
-enum class tree_family : std::uint8_t { arcs, colonisation };
+enum class tree_family : std::uint8_t { arcs, colonisation, sympodial };
 
 [[nodiscard]] constexpr std::string_view to_string(tree_family f) noexcept {
-  return f == tree_family::arcs ? "arcs" : "colonisation";
+  switch (f) {
+    case tree_family::arcs: return "arcs";
+    case tree_family::colonisation: return "colonisation";
+    case tree_family::sympodial: return "sympodial";
+  }
+  return "unknown";
 }
 
 /// One member of a population: its tree and what it was built with.
@@ -187,6 +198,95 @@ inline void add(std::string& kind, const char* what) {
   return m;
 }
 
+/// Draw `draw` of member `i` of the sympodial family at `magnify` times the base size: 640x480
+/// to 2000x1500, 1.5–8 mm/px, trunks 120–350 mm; members not wished a perch are fastigiate
+/// (steep limbs only), the others sympodial, monopodial or mixed. Every knob is drawn from `i`
+/// (the draw changes only the seed), so a member keeps its kind across draws.
+[[nodiscard]] inline population_member sympodial_draw(int i, int draw, int magnify = 1) {
+  namespace p = detail::population;
+  constexpr int widths[] = {640, 800, 1024, 1280, 1600, 2000};
+  population_member m;
+  m.family = tree_family::sympodial;
+  m.index = i;
+  sympodial_options o;
+  o.width = widths[p::mix(i, 40) % 6u] * magnify;
+  o.height = o.width * 3 / 4;
+  o.seed = 31000u + static_cast<std::uint32_t>(i) + 100003u * static_cast<std::uint32_t>(draw);
+  // The trunk 120–350 mm over 2.5–9 % of the width, the scale kept in 1.5–8 mm/px.
+  o.trunk_diameter_mm = p::pick(i, 41, 120.0f, 350.0f);
+  const float share = p::pick(i, 42, 0.025f, 0.09f);
+  o.mm_per_px = std::clamp(o.trunk_diameter_mm * static_cast<float>(magnify) / (share * static_cast<float>(o.width)),
+                           1.5f, 8.0f) / static_cast<float>(magnify);
+  constexpr tree_architecture forms[] = {tree_architecture::sympodial, tree_architecture::monopodial,
+                                         tree_architecture::mixed};
+  o.architecture = wishes_perch(i) ? forms[p::mix(i, 43) % 3u] : tree_architecture::fastigiate;
+  p::add(m.kind, to_string(o.architecture));
+  o.depth = p::pick(i, 44, 0.2f, 0.9f);
+  o.crown = p::pick(i, 45, 0.9f, 1.5f);
+  if (p::chance(i, 46, 0.25f)) {
+    o.crown = p::pick(i, 47, 1.6f, 2.4f);
+    p::add(m.kind, "overflow");
+  }
+  if (p::chance(i, 48, 0.35f)) {
+    o.droop = p::pick(i, 49, 0.3f, 0.8f);
+    p::add(m.kind, "droop");
+  }
+  if (p::chance(i, 50, 0.5f)) {
+    o.bending = p::pick(i, 51, 0.3f, 1.0f);
+    p::add(m.kind, "bent");
+  }
+  if (p::chance(i, 52, 0.3f)) {
+    o.kinks = 1 + static_cast<int>(p::mix(i, 53) % 2u);
+    p::add(m.kind, "kinks");
+  }
+  if (p::chance(i, 54, 0.4f)) {
+    o.stubs = 1 + static_cast<int>(p::mix(i, 55) % 5u);
+    p::add(m.kind, "stubs");
+  }
+  o.twigs = static_cast<int>(p::mix(i, 56) % 24u);
+  if (p::chance(i, 57, 0.4f)) {
+    o.foliage = p::pick(i, 58, 0.3f, 0.9f);
+    p::add(m.kind, "foliage");
+  }
+  // Rasterisation: every member has its own threshold; some are soft, rough, biased.
+  o.threshold = p::pick(i, 59, 0.3f, 0.7f);
+  if (p::chance(i, 60, 0.5f)) {
+    o.softness_px = p::pick(i, 61, 0.3f, 1.5f);
+    p::add(m.kind, "soft");
+  }
+  if (p::chance(i, 62, 0.4f)) {
+    o.roughness = p::pick(i, 63, 0.1f, 0.35f);
+    p::add(m.kind, "rough");
+  }
+  if (p::chance(i, 64, 0.3f)) {
+    o.outline_bias_px = p::chance(i, 65, 0.5f) ? 1 : -1;
+    p::add(m.kind, o.outline_bias_px > 0 ? "dilated" : "eroded");
+  }
+  if (p::chance(i, 66, 0.35f)) {
+    o.holes = 1 + static_cast<int>(p::mix(i, 67) % 4u);
+    p::add(m.kind, "holes");
+  }
+  if (p::chance(i, 68, 0.3f)) {
+    o.occlusions = 1 + static_cast<int>(p::mix(i, 69) % 3u);
+    p::add(m.kind, "occluded");
+  }
+  if (p::chance(i, 70, 0.3f)) {
+    o.broken = 1 + static_cast<int>(p::mix(i, 71) % 3u);
+    p::add(m.kind, "broken");
+  }
+  if (p::chance(i, 72, 0.3f)) {
+    o.fragments = 1 + static_cast<int>(p::mix(i, 73) % 4u);
+    p::add(m.kind, "fragments");
+  }
+  if (p::chance(i, 74, 0.25f)) {
+    o.second_tree = p::pick(i, 75, 0.4f, 0.8f);
+    p::add(m.kind, "second");
+  }
+  if (o.mm_per_px >= 5.0f) p::add(m.kind, "coarse");
+  m.tree = make_sympodial_tree(o);
+  return m;
+}
+
 /// Member `i` of `family`: its first draw whose truth has a feasible stretch if
 /// `wishes_perch(i)`, else its first draw without one (at most `max_draws` draws; the truth
 /// is computed once per draw).
@@ -195,8 +295,9 @@ inline void add(std::string& kind, const char* what) {
   const bool wish = wishes_perch(i);
   population_member m;
   for (int draw = 0; draw < max_draws; ++draw) {
-    m = family == tree_family::arcs ? arcs_draw(i, draw, magnify)
-                                    : colonisation_draw(i, draw, magnify);
+    m = family == tree_family::arcs           ? arcs_draw(i, draw, magnify)
+        : family == tree_family::colonisation ? colonisation_draw(i, draw, magnify)
+                                              : sympodial_draw(i, draw, magnify);
     m.wished_perch = wish;
     m.draws = draw + 1;
     m.wish_met = perch_truth(m.tree).has_perch() == wish;
