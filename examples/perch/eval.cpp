@@ -427,9 +427,22 @@ std::string parse_population(std::string_view spec, std::vector<population_part>
   return {};
 }
 
+/// The knobs of a population member's kind ("noisy+kinks").
+std::vector<std::string> split_knobs(const std::string& kind) {
+  std::vector<std::string> out;
+  std::size_t at = 0;
+  while (at <= kind.size()) {
+    const std::size_t plus = kind.find('+', at);
+    const std::string part = kind.substr(at, plus == std::string::npos ? std::string::npos : plus - at);
+    if (!part.empty()) out.push_back(part);
+    if (plus == std::string::npos) break;
+    at = plus + 1;
+  }
+  return out;
+}
+
 /// The family and knobs of a truth file's kind ("noisy", "colonisation-decurrent-two-trees",
 /// "sympodial-mixed+soft+stubs", "shape-y").
-std::vector<std::string> split_knobs(const std::string& kind);
 void classify_file(tree_record& rec) {
   constexpr std::string_view colonisation = "colonisation-";
   constexpr std::string_view sympodial = "sympodial-";
@@ -449,19 +462,6 @@ void classify_file(tree_record& rec) {
     rec.family = "arcs";
     if (!rec.kind.empty()) rec.knobs.push_back(rec.kind);
   }
-}
-
-std::vector<std::string> split_knobs(const std::string& kind) {
-  std::vector<std::string> out;
-  std::size_t at = 0;
-  while (at <= kind.size()) {
-    const std::size_t plus = kind.find('+', at);
-    const std::string part = kind.substr(at, plus == std::string::npos ? std::string::npos : plus - at);
-    if (!part.empty()) out.push_back(part);
-    if (plus == std::string::npos) break;
-    at = plus + 1;
-  }
-  return out;
 }
 
 /// The seed of a tree's segmenter gaps (--gaps): FNV-1a of its name, the same on every host.

@@ -612,6 +612,28 @@ inline void emit(const std::vector<axis>& axes, double d0, const sympodial_optio
     trunk.tree = which;
     std::vector<axis> axes;
     grow(p, trunk, r, axes, 600);
+    // A side axis of fixed base diameter (a stub or a twig) grown from vertex v (≥ 1) of axis
+    // `host`, `theta` off its heading there, rolled by `roll`, with no pipe area of its own.
+    auto attach = [&](std::size_t host, std::size_t v, double theta, double roll, double length,
+                      role what, double diameter, const plan& ps) {
+      const axis& h = axes[host];
+      const std::size_t last = h.points.size() - 1;
+      axis_seed s;
+      s.parent = static_cast<int>(host);
+      s.parent_vertex = v;
+      s.base = h.points[v];
+      const vec3 hd = (h.points[std::min(v + 1, last)] - h.points[v - 1]).normalized();
+      s.heading = branch(hd, theta, roll, p.depth);
+      s.length = length;
+      s.order = h.seed.order + 1;
+      s.what = what;
+      s.fixed_diameter = diameter;
+      s.tree = which;
+      axis a = grow_axis(s, ps, r);
+      a.area.assign(a.points.size(), 0.0);
+      axes[host].children.push_back(axes.size());
+      axes.push_back(std::move(a));
+    };
     // Stubs: dead, broken, thick and short (1–3 diameters), on the trunk and main limbs.
     const std::size_t structural = axes.size();
     const double tip_area = 1.0, leaf_density = r.uniform(60.0, 200.0) / std::max(p.crown_h, 1.0);
@@ -629,23 +651,9 @@ inline void emit(const std::vector<axis>& axes, double d0, const sympodial_optio
       const double theta = r.uniform(40.0, 95.0) * deg * r.sign();
       const double roll = r.uniform(-0.6, 0.6) + (r.uniform() < 0.5 ? 0.0 : pi);
       if (ds * static_cast<double>(o.mm_per_px) < 15.0 || v == 0) continue;
-      axis_seed s;
-      s.parent = static_cast<int>(host);
-      s.parent_vertex = v;
-      s.base = h.points[v];
-      const vec3 hd = (h.points[std::min(v + 1, last)] - h.points[v - 1]).normalized();
-      s.heading = branch(hd, theta, roll, p.depth);
-      s.length = 0.5 * dh + ds * r.uniform(1.0, 3.0);
-      s.order = h.seed.order + 1;
-      s.what = role::stub;
-      s.fixed_diameter = ds;
-      s.tree = which;
       plan ps = p;
       ps.bending = 0.0;
-      axis a = grow_axis(s, ps, r);
-      a.area.assign(a.points.size(), 0.0);
-      axes[host].children.push_back(axes.size());
-      axes.push_back(std::move(a));
+      attach(host, v, theta, roll, 0.5 * dh + ds * r.uniform(1.0, 3.0), role::stub, ds, ps);
       ++k;
     }
     // Clutter twigs (5–19 mm) on the outer limbs.
@@ -660,23 +668,9 @@ inline void emit(const std::vector<axis>& axes, double d0, const sympodial_optio
       const double roll = r.uniform(0.0, 2.0 * pi);
       const double length = r.uniform(0.02, 0.07) * H;
       if (v > last) continue;
-      axis_seed s;
-      s.parent = static_cast<int>(host);
-      s.parent_vertex = v;
-      s.base = h.points[v];
-      const vec3 hd = (h.points[std::min(v + 1, last)] - h.points[v - 1]).normalized();
-      s.heading = branch(hd, theta, roll, p.depth);
-      s.length = length;
-      s.order = h.seed.order + 1;
-      s.what = role::twig;
-      s.fixed_diameter = std::max(1.0, mm * px_per_mm);
-      s.tree = which;
       plan ps = p;
       ps.kinks = 0;
-      axis a = grow_axis(s, ps, r);
-      a.area.assign(a.points.size(), 0.0);
-      axes[host].children.push_back(axes.size());
-      axes.push_back(std::move(a));
+      attach(host, v, theta, roll, length, role::twig, std::max(1.0, mm * px_per_mm), ps);
     }
     // Parents first: stubs and twigs come after every structural axis (their hosts are lower).
     emit(axes, dt, o, r, tree.limbs);

@@ -27,9 +27,10 @@ namespace perch {
 /// in `obstacle_options`, the grasp range in `resolved_diameter`, the claw's reach in
 /// `clearance`) ask for that much margin. Half a pixel per side (the drawing's rounding alone)
 /// was right on perch's own synthetic masks, but on the same trees drawn a pixel wider
-/// (`perch eval --population 200 --outline-bias 1`) 65 of 214 perches were wrong (limbs under
-/// the grasp range read inside it), and a pixel narrower 32 of 156 (a limb read as a twig);
-/// a pixel per side: 27 of 193 and 14 of 118, and 17 of 144 on the masks as drawn (16 of 188).
+/// (`perch eval --population arcs:200,colonisation:200 --outline-bias 1`) 65 of 214 perches
+/// were wrong (limbs under the grasp range read inside it), and a pixel narrower 32 of 156 (a
+/// limb read as a twig); a pixel per side: 27 of 193 and 14 of 118, and 17 of 144 on the
+/// masks as drawn (16 of 188).
 inline constexpr float outline_uncertainty_px = 1.0f;
 /// A width or gap between two outlines read off a mask is good to this many pixels.
 inline constexpr float width_uncertainty_px = 2.0f * outline_uncertainty_px;
