@@ -88,13 +88,16 @@ TEST_CASE("find_perch: windows run along a limb through the junction where a twi
   CHECK(std::min(first.x, last.x) + found->mask.offset.x < 100);
   CHECK(std::max(first.x, last.x) + found->mask.offset.x > 100);
   CHECK(std::abs(best.window.centre.y - 40) <= 1);
-  // Without joining limbs through side twigs, no window fits.
+  // Without joining limbs through side twigs (neither a thin enough leaf by the pipe model nor
+  // anything known to be a twig by the platform's measure), no window fits.
   perch::perch_options options;
   options.limbs.side_area_share_max = 0.0f;
+  options.obstacles.twig_max_mm = 0.0f;
   auto split = perch::find_perch(mask.view(), perch::tendon_claw{}, perch::fixed_scale{2.0f}, ws,
                                  options);
   REQUIRE(split);
   CHECK(split->outcome == perch_outcome::no_perch);
+  CHECK(split->windows == 0);
 }
 
 TEST_CASE("find_perch: pinholes in a limb are filled, so the limb stays whole") {
