@@ -588,6 +588,8 @@ int run_synth_sequence(int argc, const char* const* argv) {
       "(frame, roll_deg, mm_per_px, scale).");
   args.add_option("sequence", "I", "sequence index (perch eval --sequences uses 0 … N-1)", "0");
   args.add_option("frames", "F", "frames", "90");
+  args.add_option("family", "F", "the population family the tree comes from: arcs, colonisation or\n"
+                                 "sympodial (as perch eval --sequences --family)", "arcs");
   args.add_option("out", "DIR", "output directory (created if missing)");
   args.add_flag("depth",
                 "also write OUT/depth/frame-NNNN.png (16-bit, mm: the tree at the camera's\n"
@@ -605,6 +607,12 @@ int run_synth_sequence(int argc, const char* const* argv) {
       report_error("synth", *e);
       return exit_usage;
     }
+  const std::string family_name = args.get_string("family", "arcs").value;
+  const std::optional<st::tree_family> family = st::family_named(family_name);
+  if (!family) {
+    report_error("synth", "--family must be arcs, colonisation or sympodial, not " + family_name);
+    return exit_usage;
+  }
   if (!args.has("out")) {
     report_error("synth", "missing option --out DIR");
     return exit_usage;
@@ -619,7 +627,7 @@ int run_synth_sequence(int argc, const char* const* argv) {
   }
   st::sequence_options options;
   options.frames = frames.value;
-  const st::approach_sequence seq = st::evaluation_sequence(index.value, options);
+  const st::approach_sequence seq = st::evaluation_sequence(index.value, options, *family);
   if (depth)
     if (const std::string e = write_intrinsics(dir / "intrinsics.csv", seq.camera()); !e.empty()) {
       report_error("synth", e);

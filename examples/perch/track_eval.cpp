@@ -526,12 +526,22 @@ std::vector<sequence_score> score_family(std::size_t count, unsigned jobs, const
   return scores;
 }
 
-/// `--family`: arcs, colonisation or both.
-std::vector<st::tree_family> families_of(const std::string& name) {
-  if (name == "arcs") return {st::tree_family::arcs};
-  if (name == "colonisation") return {st::tree_family::colonisation};
-  if (name == "both") return {st::tree_family::arcs, st::tree_family::colonisation};
-  return {};
+/// `--family`: a comma-separated list of arcs, colonisation and sympodial; `both` is arcs and
+/// colonisation, `all` the three. Empty when a name is none of these.
+std::vector<st::tree_family> families_of(const std::string& names) {
+  if (names == "both") return {st::tree_family::arcs, st::tree_family::colonisation};
+  if (names == "all")
+    return {st::tree_family::arcs, st::tree_family::colonisation, st::tree_family::sympodial};
+  std::vector<st::tree_family> out;
+  std::size_t from = 0;
+  while (from <= names.size()) {
+    const std::size_t comma = std::min(names.find(',', from), names.size());
+    const std::optional<st::tree_family> family = st::family_named(names.substr(from, comma - from));
+    if (!family) return {};
+    out.push_back(*family);
+    from = comma + 1;
+  }
+  return out;
 }
 
 /// `--json`: one object per family, or the one family's object.
@@ -574,7 +584,8 @@ int run_track_eval(int argc, const char* const* argv) {
       "segmentation noise) and scores the target against each frame's truth.");
   args.add_option("sequences", "N", "number of sequences (per family)", "40");
   args.add_option("frames", "F", "frames per sequence", "90");
-  args.add_option("family", "F", "the population family: arcs, colonisation or both", "arcs");
+  args.add_option("family", "F", "the population families: arcs, colonisation, sympodial (comma-separated),\n"
+                                 "both (arcs,colonisation) or all", "arcs");
   args.add_option("motion", "SOURCE", "the tracker's camera motion: truth (as visual odometry would\n"
                                       "give it), estimated (from the masks: motion_estimator) or none (identity)", "truth");
   const tracker_options defaults;
@@ -585,7 +596,7 @@ int run_track_eval(int argc, const char* const* argv) {
                                             "the rule's noise before the target is left",
                   std::to_string(defaults.infeasible_frames));
   args.add_option("jobs", "N", "worker threads; 0 = all cores", "0", 'j');
-  args.add_option("json", "OUT.json", "also write the totals as JSON (an array with --family both)");
+  args.add_option("json", "OUT.json", "also write the totals as JSON (an array with more than one family)");
   args.add_flag("rows", "one row per sequence");
   args.add_flag("depth", "analyse each frame with its depth and give the tracker the camera;\n"
                          "score the target's metric position (position_m, measured_m)");
@@ -611,7 +622,8 @@ int run_track_eval(int argc, const char* const* argv) {
   const std::string family_name = args.get_string("family", "arcs").value;
   const std::vector<st::tree_family> families = families_of(family_name);
   if (families.empty()) {
-    report_error("eval", "--family must be arcs, colonisation or both, not " + family_name);
+    report_error("eval", "--family must name arcs, colonisation or sympodial (or be both or all), not " +
+                             family_name);
     return exit_usage;
   }
   eval_setup setup;

@@ -652,6 +652,32 @@ TEST_CASE("synth --sequence, track and eval --sequences: frames, one JSON line p
   CHECK(e.out.find("target on a feasible stretch") != std::string::npos);
 }
 
+TEST_CASE("synth --sequence --family and eval --sequences --family: every population family, named or listed") {
+  const fs::path dir = scratch("track_families");
+  // The same sequence index from two families: other trees, so other frames.
+  for (const char* family : {"arcs", "sympodial"}) {
+    const run_result s = run_perch({"synth", "--sequence", "0", "--frames", "2", "--family", family,
+                                    "--out", (dir / family).string()}, dir);
+    REQUIRE_MESSAGE(s.exit_code == 0, s.err);
+  }
+  CHECK(read_file(dir / "arcs" / "frame-0000.png") != read_file(dir / "sympodial" / "frame-0000.png"));
+  const run_result bad = run_perch({"synth", "--sequence", "0", "--family", "oaks", "--out",
+                                    (dir / "oaks").string()}, dir);
+  CHECK(bad.exit_code == 2);
+  CHECK(bad.err.find("--family") != std::string::npos);
+  const run_result e = run_perch(
+      {"eval", "--sequences", "1", "--frames", "8", "--family", "colonisation,sympodial", "--quiet"}, dir);
+  REQUIRE_MESSAGE(e.exit_code == 0, e.err);
+  CHECK(e.out.find("colonisation family") != std::string::npos);
+  CHECK(e.out.find("sympodial family") != std::string::npos);
+  CHECK(e.out.find("arcs family") == std::string::npos);
+  for (const char* wrong : {"oaks", "arcs,", "arcs,oaks"}) {
+    CAPTURE(wrong);
+    const run_result w = run_perch({"eval", "--sequences", "1", "--family", wrong, "--quiet"}, dir);
+    CHECK(w.exit_code == 2);
+  }
+}
+
 TEST_CASE("eval --sequences --depth: the target's metric error against the truth; without --depth none of it") {
   const fs::path dir = scratch("track_eval_depth");
   const fs::path with_json = dir / "with.json", without_json = dir / "without.json";

@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -44,6 +45,13 @@ enum class tree_family : std::uint8_t { arcs, colonisation, sympodial };
     case tree_family::sympodial: return "sympodial";
   }
   return "unknown";
+}
+
+/// The family named `name` (as `to_string` spells it), or none.
+[[nodiscard]] constexpr std::optional<tree_family> family_named(std::string_view name) noexcept {
+  for (const tree_family f : {tree_family::arcs, tree_family::colonisation, tree_family::sympodial})
+    if (to_string(f) == name) return f;
+  return std::nullopt;
 }
 
 /// One member of a population: its tree and what it was built with.
