@@ -547,7 +547,9 @@ image<png::rgb8> annotate_tracks(const track_picture& p, const platform_geometry
                                static_cast<double>(target.diameter_mm)) +
                         format(", heading %.0f deg", static_cast<double>(target.heading_deg));
     if (target.doubtful)
-      label += "\ndoubtful: " + miss_label(target.failed_constraint, target.failed_by, target.failed_unit);
+      label += target.misses > 0
+                   ? "\ndoubtful: unseen " + std::to_string(target.misses) + " frame" + (target.misses == 1 ? "" : "s")
+                   : "\ndoubtful: " + miss_label(target.failed_constraint, target.failed_by, target.failed_unit);
     draw_perch_marker(canvas,
                       {.rect = {c, claw, std::max(target.diameter_mm * px_per_mm, 2.0f), angle},
                        .base = base,

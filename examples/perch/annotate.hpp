@@ -65,7 +65,8 @@ struct track_picture {
 ///   - every track at its smoothed position: its window along the limb and "#id",
 ///     confirmed green (a dot), tentative light blue (a ring), lost gray (a faint ring);
 ///   - the target as `annotate` draws the chosen perch (claw × diameter rectangle, heading
-///     arrow), labelled "#id target: slope, d, heading" and, while doubtful, the rule it fails;
+///     arrow), labelled "#id target: slope, d, heading" and, while doubtful, the rule it fails (or
+///     "unseen N frames");
 ///   - a status line (frame, status, target), under it the change of target in this frame and
 ///     its reason, on red, or the latest change before it, faint;
 ///   - a legend, in the corner that hides the least tree.

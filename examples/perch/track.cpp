@@ -170,12 +170,24 @@ void write_track_fields(st::json_writer& json, const perch_track& t, bool metric
   write_point_or_null(json, "measured_m", t.measured_m, t.measured);
 }
 
-/// `"doubtful"`: null, or the rule the target's spot failed and by how much (a target kept
-/// through a near miss within the rule's noise, or for a frame or two beyond it).
+/// `"doubtful"`: null, or why this frame did not confirm the target: not seen in it
+/// (`"constraint": "unseen"`, the frames it has been unseen), or the rule its spot failed and by
+/// how much (a target kept through a near miss within the rule's noise, or for a frame or two
+/// beyond it).
 void write_doubt(st::json_writer& json, const perch_track& t) {
   json.key("doubtful");
   if (!t.doubtful) {
     json.null();
+    return;
+  }
+  if (t.misses > 0) {
+    json.begin_object()
+        .key("constraint").value(std::string_view("unseen"))
+        .key("miss").value(static_cast<std::int64_t>(t.misses))
+        .key("unit").value(std::string_view("frames"))
+        .key("within_noise").value(false)
+        .key("frames").value(static_cast<std::int64_t>(t.misses))
+        .end_object();
     return;
   }
   json.begin_object()

@@ -143,15 +143,18 @@ TEST_CASE("a one-frame dropout keeps the target; drop_frames misses lose it") {
   CHECK(r.changed);
   CHECK(r.change.reason == perch::target_change_reason::acquired);
   const std::uint32_t id = r.target->id;
+  CHECK(!r.target->doubtful);
   r = tracker.update(empty);
   CHECK(r.status == perch::tracking_status::no_perch);
   REQUIRE(r.target != nullptr);
   CHECK(r.target->id == id);
   CHECK(!r.changed);
+  CHECK(r.target->doubtful);  // unseen this frame: a prediction, not a site to grasp
   r = tracker.update(seen);
   REQUIRE(r.target != nullptr);
   CHECK(r.target->id == id);
   CHECK(r.target->misses == 0);
+  CHECK(!r.target->doubtful);
   for (std::uint32_t f = 0; f + 1 < o.drop_frames; ++f) {
     r = tracker.update(empty);
     CHECK(!r.changed);

@@ -184,9 +184,11 @@ struct perch_track {
   std::string_view failed_unit{};         ///< its unit
   float failed_by = 0;                    ///< by how much it missed, in `failed_unit`
   bool marginal = false;  ///< not feasible, but by no more than the rule's measurement noise
-  /// The target, kept though its last match failed a rule: within the rule's noise for fewer
-  /// than `doubtful_frames` frames, or beyond it for fewer than `infeasible_frames`. Only the
-  /// target is ever doubtful; a planner should not commit to the grasp while it is.
+  /// The target, kept though this frame did not confirm it: its last match failed a rule
+  /// (within the rule's noise for fewer than `doubtful_frames` frames, or beyond it for fewer
+  /// than `infeasible_frames`), or it was not seen in this frame (`misses` > 0: its position
+  /// is the motion's prediction, for fewer than `drop_frames` frames). Only the target is ever
+  /// doubtful; a planner should not commit to the grasp while it is.
   bool doubtful = false;
   std::uint32_t better_streak = 0;  ///< frames in a row it beat the target by the margin
   /// Camera-frame position, metres (x right, y down, z along the optical axis): `position_px`
@@ -687,7 +689,8 @@ class perch_tracker {
   bool choose_target(target_change& change) noexcept {
     const bool changed = retarget(change);
     for (std::size_t i = 0; i < count_; ++i)
-      tracks_[i].doubtful = tracks_[i].id == target_id_ && !tracks_[i].feasible;
+      tracks_[i].doubtful =
+          tracks_[i].id == target_id_ && (!tracks_[i].feasible || tracks_[i].misses > 0);
     return changed;
   }
 
