@@ -894,6 +894,32 @@ TEST_CASE("track --annotate and --apng: a picture per frame, an animation of the
   }
 }
 
+TEST_CASE("track: a target unseen in a frame stays, doubtful (\"unseen\"), and is confirmed again when seen") {
+  const fs::path dir = scratch("track_unseen");
+  const fs::path frames = dir / "frames";
+  fs::create_directories(frames);
+  // The same tree four times, a frame with no tree, the tree again.
+  for (const char* name : {"frame-0000.png", "frame-0001.png", "frame-0002.png", "frame-0003.png", "frame-0005.png"})
+    fs::copy_file(data / "synth-1.png", frames / name, fs::copy_options::overwrite_existing);
+  perch::image<std::uint8_t> empty(960, 720, 0);
+  REQUIRE(perch::png::write_png(frames / "frame-0004.png", perch::image_view<const std::uint8_t>(empty.view())).has_value());
+  const run_result t = run_perch({"track", frames.string(), "--no-timing"}, dir);
+  REQUIRE_MESSAGE(t.exit_code == 0, t.err);
+  const std::vector<json_value> lines = parse_lines(t.out);
+  REQUIRE(lines.size() == 6);
+  const json_value* before = lines[3].find("target");
+  REQUIRE((before != nullptr && before->find("id") != nullptr));  // locked by frame 3
+  CHECK(member(*before, "doubtful").kind == json_value::type::null);
+  CHECK(member(lines[4], "status").text == "no_tree");
+  const json_value& unseen = member(lines[4], "target");
+  CHECK(member(unseen, "id").number == member(*before, "id").number);
+  CHECK(member(member(unseen, "doubtful"), "constraint").text == "unseen");
+  CHECK(member(member(unseen, "doubtful"), "frames").number == 1);
+  const json_value& again = member(lines[5], "target");
+  CHECK(member(again, "id").number == member(*before, "id").number);
+  CHECK(member(again, "doubtful").kind == json_value::type::null);
+}
+
 TEST_CASE("track --roll-csv and --scale-csv: each frame's roll and scale reach find_perch; bad CSVs exit 2") {
   const fs::path dir = scratch("track_roll");
   const fs::path frames = dir / "frames";
