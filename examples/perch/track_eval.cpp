@@ -44,7 +44,7 @@ struct miss_breakdown {
   int wrong_doubtful = 0;  ///< of the wrong frames (both kinds), those whose target was doubtful
   int wrong_by_match[target_match_count] = {};  ///< wrong frames by the target's match
   int wrong_by_verdict[verdict_count] = {};  ///< by the truth's verdict at the target's spot
-  int doubtful_frames = 0;  ///< frames whose target was doubtful (kept through a near miss)
+  int doubtful_frames = 0;  ///< frames whose target was doubtful (kept through a near miss, or unseen)
 
   void add(const miss_breakdown& o) {
     unlocked += o.unlocked;
