@@ -92,10 +92,12 @@ void check_result(const perch_tracker& tracker, const tracking_result& r, Fail&&
       fail("target outside the tracks");
     const perch_track& t = *r.target;
     if (t.state != track_state::confirmed) fail("target not confirmed");
-    if (t.doubtful != !t.feasible) fail("doubtful flag disagrees with the last match");
+    // Doubtful when this frame did not confirm it: its last match failed a rule, or it is unseen.
+    if (t.doubtful != (!t.feasible || t.misses > 0))
+      fail("doubtful flag disagrees with the last match and this frame's sighting");
     // Never beyond the limits: within the rule's noise for fewer than doubtful_frames, beyond
     // it for fewer than infeasible_frames.
-    if (t.doubtful && t.infeasible_streak >= (t.marginal ? o.doubtful_frames : o.infeasible_frames))
+    if (!t.feasible && t.infeasible_streak >= (t.marginal ? o.doubtful_frames : o.infeasible_frames))
       fail("doubtful target kept too long");
   } else if (doubtful != 0) {
     fail("a doubtful track that is not the target");
