@@ -16,13 +16,19 @@ trap 'rm -rf "$work"' EXIT
 mkdir -p "$work/a"
 git archive "$rev" include | tar -x -C "$work/a"
 flags=(-std=c++20 -O3 -DNDEBUG -I examples/support -I /usr/include/eigen3)
-c++ "${flags[@]}" -I "$work/a/include" -Dperch=perch_a -DAB_RUN=run_a -DAB_HASH=hash_a \
-  -c benchmarks/ab/ab_side.cpp -o "$work/a.o" &
+# side NAME INCLUDE: ab_side.cpp and the synthetic trees it draws (perch_support's
+# synthetic_tree.cpp), both with perch's namespace renamed to perch_NAME.
+side() {
+  local defs=(-I "$2" "-Dperch=perch_$1" "-DAB_RUN=run_$1" "-DAB_HASH=hash_$1")
+  c++ "${flags[@]}" "${defs[@]}" -c benchmarks/ab/ab_side.cpp -o "$work/$1.o"
+  c++ "${flags[@]}" "${defs[@]}" -c examples/support/support/synthetic_tree.cpp -o "$work/$1-tree.o"
+}
+side a "$work/a/include" &
 side_a=$!
-c++ "${flags[@]}" -I include -Dperch=perch_b -DAB_RUN=run_b -DAB_HASH=hash_b \
-  -c benchmarks/ab/ab_side.cpp -o "$work/b.o"
+side b include
 wait "$side_a"
-c++ -O2 benchmarks/ab/ab_main.cpp "$work/a.o" "$work/b.o" -o "$work/ab"
+c++ -O2 benchmarks/ab/ab_main.cpp "$work/a.o" "$work/a-tree.o" "$work/b.o" "$work/b-tree.o" \
+  -o "$work/ab"
 echo "a: $rev ($(git rev-parse --short "$rev")), b: the working tree"
 # shellcheck disable=SC2068
 "$work/ab" ${args[@]}

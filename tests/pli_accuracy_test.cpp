@@ -23,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "support/find_perch_instances.hpp"
 #include "support/population.hpp"
 
 namespace {

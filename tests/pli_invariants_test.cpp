@@ -15,6 +15,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "support/find_perch_instances.hpp"
 #include "support/synthetic_tree.hpp"
 
 namespace {

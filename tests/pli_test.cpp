@@ -14,6 +14,7 @@
 
 #include "allocation_counter.hpp"
 #include "perch/core/image.hpp"
+#include "support/find_perch_instances.hpp"
 
 namespace {
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "perch/pli.hpp"
+#include "support/find_perch_instances.hpp"
 #include "support/population.hpp"
 #ifdef PERCH_SAMPLE_MASK_DIR
 #include <filesystem>

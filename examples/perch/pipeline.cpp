@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <type_traits>
 
 #include <unistd.h>
 
@@ -14,41 +13,6 @@
 #include "tool.hpp"
 
 namespace perch::tool {
-
-platform_limits limits_of(platform_id id) {
-  return visit_platform(id, [](const auto& p) {
-    platform_limits out;
-    out.drone_width_mm = p.geometry.drone_width_mm;
-    out.claw_width_mm = p.geometry.claw_width_mm;
-    out.mass_kg = p.geometry.mass_kg;
-    for_each_leaf(p.constraints, [&](const auto& leaf, std::size_t) {
-      using leaf_type = std::remove_cvref_t<decltype(leaf)>;
-      if constexpr (std::is_same_v<leaf_type, diameter_range>) {
-        out.diameter_min_mm = leaf.min_mm;
-        out.diameter_max_mm = leaf.max_mm;
-      } else if constexpr (std::is_same_v<leaf_type, max_slope>) {
-        out.slope_max_deg = leaf.max_deg;
-      } else if constexpr (std::is_same_v<leaf_type, min_slope>) {
-        out.slope_min_deg = leaf.min_deg;
-        out.has_min_slope = true;
-      } else if constexpr (std::is_same_v<leaf_type, max_bend>) {
-        out.bend_max_deg = leaf.max_deg;
-      } else if constexpr (std::is_same_v<leaf_type, image_border>) {
-        out.border_px = leaf.margin_px;
-      } else if constexpr (std::is_same_v<leaf_type, resolved_diameter>) {
-        out.resolution_px = leaf.uncertainty_px;
-      } else if constexpr (std::is_same_v<leaf_type, bending_stress>) {
-        out.mass_kg = leaf.mass_kg;
-        out.max_stress_mpa = leaf.modulus_of_rupture_mpa / (leaf.safety_factor * leaf.load_factor);
-      } else if constexpr (std::is_same_v<leaf_type, clearance>) {
-        out.has_clearance = true;
-        out.clearance_mm = leaf.margin_mm;
-        out.clearance_uncertainty_px = leaf.uncertainty_px;
-      }
-    });
-    return out;
-  });
-}
 
 void add_pipeline_options(support::arg_parser& args, depth_option depth) {
   args.add_option("platform", "NAME",
@@ -242,13 +206,11 @@ std::int64_t steady_now_ns() noexcept {
       .count();
 }
 
-template <class Platform, class Scale>
-analysis_output run(const analysis_request& request, const run_config& config, const Platform& platform,
-                    const Scale& scale, workspace& ws) {
+analysis_output run(const analysis_request& request, const run_config& config, workspace& ws) {
   analysis_output out;
   perch_options options = perch_options_of(config);
   options.clock = config.timing ? &steady_now_ns : nullptr;
-  auto found = find_perch(request.mask->view(), platform, scale, ws, options);
+  auto found = find_with(request.mask->view(), config, options, ws);
   if (!found) {
     out.exit_code = exit_code_for(found.error());
     out.error = describe(found.error());
@@ -260,15 +222,16 @@ analysis_output run(const analysis_request& request, const run_config& config, c
   out.sites.assign(r.sites.begin(), r.sites.end());
   out.mm_per_px = r.mm_per_px;
   out.total_ms = r.timing.total_ms;
-  out.reason = no_perch_reason(r, platform.geometry);
+  const platform_geometry geometry = geometry_of(config.platform);
+  out.reason = no_perch_reason(r, geometry);
   const document_source source{.input = request.input, .warnings = request.warnings};
-  if (request.detect_json) out.detect_json = detect_json(r, source, platform.geometry);
+  if (request.detect_json) out.detect_json = detect_json(r, source, geometry);
   if (request.graph_json) out.graph_json = graph_json(r, source);
   if (request.annotation) {
     const platform_limits limits = limits_of(config.platform);
     const clearance_envelope envelope{.margin_mm = limits.has_clearance ? limits.clearance_mm : -1.0f,
                                       .uncertainty_px = limits.clearance_uncertainty_px};
-    out.annotated = annotate(r, platform.geometry, envelope, *request.mask, request.photo);
+    out.annotated = annotate(r, geometry, envelope, *request.mask, request.photo);
   }
   return out;
 }
@@ -276,9 +239,7 @@ analysis_output run(const analysis_request& request, const run_config& config, c
 }  // namespace
 
 analysis_output analyse(const analysis_request& request, const run_config& config, workspace& ws) {
-  return visit_platform(config.platform, [&](const auto& platform) {
-    return visit_scale(config.scale, [&](const auto& scale) { return run(request, config, platform, scale, ws); });
-  });
+  return run(request, config, ws);
 }
 
 std::string write_text(const std::filesystem::path& path, std::string_view text) {

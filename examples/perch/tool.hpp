@@ -40,25 +40,6 @@ enum class platform_id : std::uint8_t { tendon_claw, tensile_tether, metamorphic
 inline constexpr std::array<std::string_view, 5> platform_names = {
     "tendon-claw", "tensile-tether", "metamorphic", "ornithopter", "treecreeper"};
 
-/// Calls `f(platform)` with a default-constructed value of the platform type `id` names.
-/// Every branch must return the same type.
-template <class F>
-decltype(auto) visit_platform(platform_id id, F&& f) {
-  switch (id) {
-    case platform_id::tensile_tether:
-      return f(tensile_tether{});
-    case platform_id::metamorphic:
-      return f(metamorphic_quadrotor{});
-    case platform_id::ornithopter:
-      return f(ornithopter{});
-    case platform_id::treecreeper:
-      return f(treecreeper{});
-    case platform_id::tendon_claw:
-      break;
-  }
-  return f(tendon_claw{});
-}
-
 /// The limits a platform's constraints declare (for `eval`'s truth and `--annotate`'s clearance
 /// envelope). A rule the platform does not have keeps the value that never fails.
 struct platform_limits {
@@ -80,6 +61,9 @@ struct platform_limits {
 };
 [[nodiscard]] platform_limits limits_of(platform_id id);
 
+/// The drone's geometry on platform `id`.
+[[nodiscard]] platform_geometry geometry_of(platform_id id);
+
 /// How the tool gets the scale.
 enum class scale_kind : std::uint8_t { trunk_prior, fixed, depth };
 
@@ -92,23 +76,6 @@ struct scale_config {
   std::optional<std::filesystem::path> depth_dir;  ///< --depth-dir (track: DIR/NAME per frame)
   pinhole intrinsics{};         ///< --fx --fy --cx --cy
 };
-
-/// Calls `f(policy)` with the scale policy `scale` names (`scale_kind::depth` needs `depth_mm`).
-/// Every branch must return the same type.
-template <class F>
-decltype(auto) visit_scale(const scale_config& scale, F&& f) {
-  switch (scale.kind) {
-    case scale_kind::fixed:
-      return f(fixed_scale{scale.mm_per_px, scale.uncertainty.value_or(0.0f)});
-    case scale_kind::depth:
-      return f(depth_scale{scale.depth_mm->view(), scale.intrinsics,
-                           scale.uncertainty.value_or(0.0f)});
-    case scale_kind::trunk_prior:
-      break;
-  }
-  return f(trunk_prior{scale.trunk_mm,
-                       scale.uncertainty.value_or(trunk_prior{}.relative_uncertainty)});
-}
 
 /// Reads a depth PNG (16-bit millimetres, 0 invalid; 8-bit widened) into `out`. Returns an
 /// error message ("cannot read depth PATH: ..."), or an empty string.
@@ -142,30 +109,18 @@ void add_pipeline_options(support::arg_parser& args, depth_option depth);
 /// The `perch_options` of `config` (downscale, holes, gaps, roll, top-k; no clock).
 [[nodiscard]] perch_options perch_options_of(const run_config& config);
 
-/// `find_perch` on `mask` with `config`'s options and scale.
-template <class Platform>
-[[nodiscard]] result<perch_result> find_with(const image<std::uint8_t>& mask, const run_config& config,
-                                             const Platform& platform, workspace& ws) {
-  return visit_scale(config.scale, [&](const auto& scale) {
-    return find_perch(mask.view(), platform, scale, ws, perch_options_of(config));
-  });
-}
+/// `find_perch` on `mask` with `config`'s platform and scale and `options` (usually
+/// `perch_options_of(config)`). The one place the tool names the platform and scale types
+/// (platforms.cpp).
+[[nodiscard]] result<perch_result> find_with(image_view<const std::uint8_t> mask, const run_config& config,
+                                             const perch_options& options, workspace& ws);
 
 /// `find_perch` on a frame with its depth when it has one (`depth`: `config` with the frame's
 /// depth image as its scale), else with `config`'s scale. Depth with no valid sample on the
 /// tree is dropped for `config`'s scale, and `depth_dropped` says so: a frame is analysed with
 /// what it has (perch track --depth-dir, perch eval --sequences --depth).
-template <class Platform>
 [[nodiscard]] result<perch_result> find_in_frame(const image<std::uint8_t>& mask, const run_config& config,
-                                                 const run_config* depth, const Platform& platform,
-                                                 workspace& ws, bool& depth_dropped) {
-  depth_dropped = false;
-  if (depth == nullptr) return find_with(mask, config, platform, ws);
-  auto found = find_with(mask, *depth, platform, ws);
-  if (found || found.error().code != errc::no_valid_depth) return found;
-  depth_dropped = true;
-  return find_with(mask, config, platform, ws);
-}
+                                                 const run_config* depth, workspace& ws, bool& depth_dropped);
 
 /// The value below which a fraction `q` ∈ [0, 1] of `values` lie (nearest rank); 0 when empty.
 [[nodiscard]] float percentile(std::vector<float> values, double q);

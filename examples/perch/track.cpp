@@ -322,30 +322,28 @@ template <class OnTracked>
 tracking_result analyse_and_track(const image<std::uint8_t>& mask, const run_config& config, const run_config* depth,
                                   perch_tracker& tracker, motion_estimator& estimator, workspace& ws,
                                   frame_report& report, OnTracked&& on_tracked) {
-  return visit_platform(config.platform, [&](const auto& platform) {
-    const std::int64_t t0 = steady_ns();
-    bool depth_dropped = false;
-    auto found = find_in_frame(mask, config, depth, platform, ws, depth_dropped);
-    const std::int64_t t1 = steady_ns();
-    if (depth_dropped) report.depth = "no_valid_depth";
-    if (!found) report.error = describe(found.error());
-    if (found) {
-      // The estimator sees every analysed frame, so its previous keypoints are the last frame's.
-      const motion_estimate estimate = estimator.update(*found);
-      if (report.motion_source != "given" && estimate.estimated) {
-        report.motion = estimate.motion;
-        report.motion_source = "estimated";
-      }
-    } else {
-      estimator.reset();
+  const std::int64_t t0 = steady_ns();
+  bool depth_dropped = false;
+  auto found = find_in_frame(mask, config, depth, ws, depth_dropped);
+  const std::int64_t t1 = steady_ns();
+  if (depth_dropped) report.depth = "no_valid_depth";
+  if (!found) report.error = describe(found.error());
+  if (found) {
+    // The estimator sees every analysed frame, so its previous keypoints are the last frame's.
+    const motion_estimate estimate = estimator.update(*found);
+    if (report.motion_source != "given" && estimate.estimated) {
+      report.motion = estimate.motion;
+      report.motion_source = "estimated";
     }
-    const tracking_result r = tracker.update(found, report.motion);
-    const std::int64_t t2 = steady_ns();
-    report.find_ms = config.timing ? static_cast<float>(static_cast<double>(t1 - t0) * 1e-6) : 0;
-    report.track_ms = config.timing ? static_cast<float>(static_cast<double>(t2 - t1) * 1e-6) : 0;
-    on_tracked(found ? &*found : nullptr, platform.geometry, r);
-    return r;
-  });
+  } else {
+    estimator.reset();
+  }
+  const tracking_result r = tracker.update(found, report.motion);
+  const std::int64_t t2 = steady_ns();
+  report.find_ms = config.timing ? static_cast<float>(static_cast<double>(t1 - t0) * 1e-6) : 0;
+  report.track_ms = config.timing ? static_cast<float>(static_cast<double>(t2 - t1) * 1e-6) : 0;
+  on_tracked(found ? &*found : nullptr, geometry_of(config.platform), r);
+  return r;
 }
 
 /// `--annotate DIR` and `--apng FILE`: a picture of every frame (`annotate_tracks`), written to
@@ -553,9 +551,8 @@ int run_track(int argc, const char* const* argv) {
       estimator.reset();
       r = tracker.skip(report.motion);
       if (pictures.wanted())
-        visit_platform(config.platform, [&](const auto& platform) {
-          picture_error = pictures.add(report.frame, frames[i], nullptr, nullptr, platform.geometry, r, report.error);
-        });
+        picture_error = pictures.add(report.frame, frames[i], nullptr, nullptr, geometry_of(config.platform), r,
+                                     report.error);
     } else {
       run_config frame_config = config;
       if (const auto roll = rolls.find(report.frame, frames[i])) frame_config.roll_deg = *roll;

@@ -288,7 +288,7 @@ sequence_score score_sequence(int index, const eval_setup& setup, workspace& ws)
         setup.depth ? std::optional(with_depth(config, seq, frame)) : std::nullopt;
     bool depth_dropped = false;
     const auto found =
-        find_in_frame(frame.mask, config, depth ? &*depth : nullptr, tendon_claw{}, ws, depth_dropped);
+        find_in_frame(frame.mask, config, depth ? &*depth : nullptr, ws, depth_dropped);
     score.frames_without_depth += depth_dropped ? 1 : 0;
     if (!found) {
       score.error = describe(found.error());

@@ -13,6 +13,7 @@
 #include "allocation_counter.hpp"
 #include "perch/core/image.hpp"
 #include "perch/pli.hpp"
+#include "support/find_perch_instances.hpp"
 #include "support/synthetic_tree.hpp"
 
 namespace {

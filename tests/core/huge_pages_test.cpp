@@ -9,6 +9,7 @@
 
 #include "allocation_counter.hpp"
 #include "perch/pli.hpp"
+#include "support/find_perch_instances.hpp"
 #include "support/synthetic_tree.hpp"
 
 using perch::huge_page_resource;

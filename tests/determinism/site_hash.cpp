@@ -14,6 +14,7 @@
 
 #include "perch/core/image.hpp"
 #include "perch/pli.hpp"
+#include "support/find_perch_instances.hpp"
 #include "support/synthetic_tree.hpp"
 #ifdef PERCH_SITE_HASH_PNG
 #include "png/png.hpp"

@@ -12,6 +12,7 @@
 
 #include "perch/core/image.hpp"
 #include "perch/pli.hpp"
+#include "support/find_perch_instances.hpp"
 
 namespace {
 

@@ -10,6 +10,7 @@
 
 #include "allocation_counter.hpp"
 #include "perch/pli.hpp"
+#include "support/find_perch_instances.hpp"
 #include "support/sequence.hpp"
 
 namespace st = perch::support;

@@ -13,10 +13,12 @@
 #include <deque>
 #include <limits>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "allocation_counter.hpp"
 #include "perch/pli.hpp"
+#include "support/find_perch_instances.hpp"
 #include "support/synthetic_tree.hpp"
 
 namespace {
@@ -522,7 +524,7 @@ TEST_CASE("find_perch + tracker: no allocation per frame after warm-up, and dete
     run_record rec;
     for (std::size_t f = 0; f < frames.size(); ++f) {
       perch::test::allocation_scope scope;
-      const auto found = perch::find_perch(frames[f].view(), perch::tendon_claw{}, scale, ws);
+      const auto found = perch::find_perch(std::as_const(frames[f]).view(), perch::tendon_claw{}, scale, ws);
       REQUIRE(found);
       const auto r = tracker.update(
           *found, f == 0 ? camera_motion::identity() : camera_motion::similarity(1, 0, 2, -1));
