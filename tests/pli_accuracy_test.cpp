@@ -17,9 +17,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <map>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -51,6 +53,13 @@ constexpr bool sanitized = false;
 [[nodiscard]] constexpr int family_size(st::tree_family family) {
   const int full = family == st::tree_family::arcs ? 200 : 100;
   return sanitized ? full / 4 : full;
+}
+
+/// Whether this run scores `family`: the environment's PERCH_ACCURACY_FAMILY names one (CTest
+/// runs the arcs and the colonisation family as two tests, side by side), every family when unset.
+[[nodiscard]] bool scored(st::tree_family family) {
+  const char* only = std::getenv("PERCH_ACCURACY_FAMILY");
+  return only == nullptr || *only == '\0' || st::to_string(family) == std::string_view(only);
 }
 
 /// The members [0, family_size) of `family` at base size, drawn once for every test case.
@@ -166,6 +175,7 @@ score evaluate_known_scale(st::tree_family family, const perch::perch_options& o
 
 TEST_CASE("synthetic population: the mix, and trees built without a perch have none") {
   for (const st::tree_family family : {st::tree_family::arcs, st::tree_family::colonisation}) {
+    if (!scored(family)) continue;
     CAPTURE(st::to_string(family));
     int without = 0, unmet = 0;
     for (const st::population_member& m : population(family)) {
@@ -187,6 +197,7 @@ TEST_CASE("synthetic population: the mix, and trees built without a perch have n
 
 TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known scale)") {
   for (const st::tree_family family : {st::tree_family::arcs, st::tree_family::colonisation}) {
+    if (!scored(family)) continue;
     CAPTURE(st::to_string(family));
     const score s = evaluate_known_scale(family);
     MESSAGE(st::to_string(family) << ": " << s.summary());
@@ -212,6 +223,7 @@ TEST_CASE("find_perch: the chosen perch lies on a truly feasible stretch (known 
 }
 
 TEST_CASE("find_perch: a segmenter's outline a pixel off" * doctest::skip(sanitized)) {
+  if (!scored(st::tree_family::arcs)) return;
   // The same arcs trees drawn a pixel wider (an over-segmenting network) and a pixel narrower,
   // judged by the drawn truth: the margins of perch::outline_uncertainty_px keep limbs under
   // the grasp range and limbs read as twigs out (with half a pixel per side: 27 and 6 wrong).
@@ -230,6 +242,7 @@ TEST_CASE("find_perch: the trunk prior on the same population" * doctest::skip(s
   // The scale from the trunk's width (paper: 180 mm by default; here each tree's own trunk
   // diameter, as a user who knows the species would give it).
   for (const st::tree_family family : {st::tree_family::arcs, st::tree_family::colonisation}) {
+    if (!scored(family)) continue;
     const score s = evaluate(family, [](const st::synthetic_tree& t) {
       const float trunk_px = t.limbs.empty() ? 1.0f : t.limbs.front().diameter_px.front();
       return perch::trunk_prior{trunk_px * t.mm_per_px};
@@ -241,6 +254,7 @@ TEST_CASE("find_perch: the trunk prior on the same population" * doctest::skip(s
 }
 
 TEST_CASE("find_perch: the accuracy cost of perch_options::downscale" * doctest::skip(sanitized)) {
+  if (!scored(st::tree_family::arcs)) return;
   // The arcs family analysed at reduced resolution: 640-1280 px wide trees at factor 0.5 leave
   // 320-640 px and limbs of a few pixels, which the resolution rule then refuses.
   for (const float factor : {0.5f}) {
@@ -260,6 +274,7 @@ TEST_CASE("find_perch: the accuracy cost of perch_options::downscale" * doctest:
 // meant to be used). Minutes in an optimised build, so CI skips it; run it with
 //   build/test/tests/pli_accuracy_test --no-skip -tc='*camera-sized*'
 TEST_CASE("find_perch: downscale on camera-sized frames" * doctest::skip()) {
+  if (!scored(st::tree_family::arcs)) return;
   for (const float factor : {1.0f, 0.5f, 0.25f}) {
     perch::perch_options options;
     options.downscale = factor;
