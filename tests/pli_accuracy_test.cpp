@@ -175,6 +175,10 @@ score evaluate_known_scale(st::tree_family family, const perch::perch_options& o
 
 }  // namespace
 
+TEST_CASE("PERCH_ACCURACY_FAMILY, when set, names a family this test scores") {
+  CHECK((scored(st::tree_family::arcs) || scored(st::tree_family::colonisation)));
+}
+
 TEST_CASE("synthetic population: the mix, and trees built without a perch have none") {
   for (const st::tree_family family : {st::tree_family::arcs, st::tree_family::colonisation}) {
     if (!scored(family)) continue;

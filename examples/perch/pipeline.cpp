@@ -206,7 +206,9 @@ std::int64_t steady_now_ns() noexcept {
       .count();
 }
 
-analysis_output run(const analysis_request& request, const run_config& config, workspace& ws) {
+}  // namespace
+
+analysis_output analyse(const analysis_request& request, const run_config& config, workspace& ws) {
   analysis_output out;
   perch_options options = perch_options_of(config);
   options.clock = config.timing ? &steady_now_ns : nullptr;
@@ -234,12 +236,6 @@ analysis_output run(const analysis_request& request, const run_config& config, w
     out.annotated = annotate(r, geometry, envelope, *request.mask, request.photo);
   }
   return out;
-}
-
-}  // namespace
-
-analysis_output analyse(const analysis_request& request, const run_config& config, workspace& ws) {
-  return run(request, config, ws);
 }
 
 std::string write_text(const std::filesystem::path& path, std::string_view text) {
